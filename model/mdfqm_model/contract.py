@@ -1,0 +1,238 @@
+"""The fixed-point and timing contract shared by the golden model and the gateware.
+
+Everything the hardware computes is specified here in integers, so that the model can predict
+every bit of every clock. The gateware imports only the *constants and shapes* of this module
+(widths, bounds, loop latency, the sorting network's comparator list); the values it must
+produce come from :mod:`mdfqm_model.update` and :mod:`mdfqm_model.clock`.
+
+Notation follows ``shared/design/ALGORITHM.md``: ``N`` legs, gate state ``h`` in {0,1}^N,
+phase voltage ``v(h) = h - mean(h)`` in units of the DC link (Vdc = 1).
+
+Reference format
+----------------
+Each phase reference is a two's-complement integer ``c_i`` of ``width`` (W) bits. One Vdc is
+``FULL = 2**(W-2)`` codes, so a code spans [-2, 2) Vdc: twice the largest phase voltage any
+state can produce, which leaves room for overmodulation tests up to twice the linear range and
+for common-mode offsets without input clipping.
+
+Internal integer domain (everything scaled by N)
+------------------------------------------------
+- Common-mode removal, exact: ``R_i = N c_i - sum_j c_j``  (so ``sum(R) == 0``).
+- Feedback of a state with ``k = popcount(h)`` legs on: ``U_i = FULL (N h_i - k)``
+  (this is ``N FULL v(h)``, an exact integer).
+- Optimum signal: ``T = X + R``.  Integrator: ``X' = T - U``.  ``sum(X) == 0`` always.
+- One Vdc is ``N FULL`` in this domain; the linear range is ``max(T) - min(T) <= N FULL``.
+
+Integrator bound (anti-windup)
+------------------------------
+``X_i`` must fit in a signed ``x_width = W + ceil(log2 N)`` bit word, i.e.
+``-2**(x_width-1) <= X_i < 2**(x_width-1)``; ``2**(x_width-1) >= 2 N FULL`` (>= 2 Vdc).
+If any component of ``X' = T - U`` falls outside, the update is *saturated*: the integrator
+holds its old value (conditional integration), which keeps ``sum(X) == 0`` exactly and makes
+wrap-around impossible. The chosen state is still output. In the linear range the bound is never
+reached (the model's tests check this).
+
+Sort1 (N-input sort) tie-break
+------------------------------
+``T`` is sorted descending by the key ``(-T_i, i)``: equal values keep leg order (lower leg
+index first). ``rho`` are the sorted values, ``perm[p]`` the leg at sorted position ``p``.
+
+Candidates and the two selection rules
+--------------------------------------
+Candidate ``j`` (j = 0..N-1) is the staircase state with the top-``j`` legs on; ``j = 0`` is the
+*zero class* (all-off or all-on; both give v = 0, and the all-on column ``j = N`` always ties with
+``j = 0``).
+- ``largest_duty`` (patent / paper, gamma = 1): ``d_0 = N FULL - (rho_1 - rho_N)``,
+  ``d_j = rho_j - rho_{j+1}`` for j = 1..N-1 (1-based rho).
+- ``exact_nearest`` (design notes section 4): ``S_j = 2 (rho_1 + .. + rho_j) - FULL j (N - j)``,
+  ``S_0 = 0``; this is ``N FULL`` times the exact score, so the largest ``S_j`` is the state
+  nearest to ``T``.
+The selected ``j*`` is the *smallest* ``j`` with the largest value (sort2's tie-break).
+For N = 3 the two rules give the same ``j*`` for every input (``d = 1.5 S + const``).
+
+Zero-state policy
+-----------------
+If ``j* == 0``: ``ALL_OFF`` (0) gives h = 0...0 (the paper); ``FEWEST_TRANSITIONS`` (1) gives
+all-on when ``2 popcount(h_prev) > N`` and all-off otherwise (ties go to all-off), where
+``h_prev`` is the previously output state (0 after reset). Otherwise ``h`` has the legs
+``perm[0..j*-1]`` on.
+
+Clock-level timing of the core (see :mod:`mdfqm_model.clock`)
+--------------------------------------------------------------
+All registers reset synchronously to zero. ``L = loop_latency(N, rule)`` clocks.
+- Update sequencer: a counter ``phase``; a cycle with ``phase == 0`` is an *update start*.
+  At an update start the runtime inputs are latched: ``P = max(period, L)`` (``period_clamped``
+  = ``period < L``, registered), ``osr = max(osr, 1)``, ``zero_policy``. Next ``phase`` is 0 if
+  ``phase + 1 >= P`` (P being the value latched at the start of this update) else ``phase + 1``.
+- Sampling switch: a counter ``sub`` of updates; an update start with ``sub == 0`` is a
+  *sampling tick* (``sample`` output high that cycle). At each update start
+  ``sub <- 0 if sub + 1 >= osr else sub + 1``.
+- Reference stage: the stream ``ref`` (valid/ready) has ``ready = not (s1 or s2 or full)``.
+  A beat accepted in cycle a is registered (s1 set), common mode is removed over the next two
+  cycles (s2, then ``pending`` with ``full`` set, visible from cycle a + 3). At a sampling tick
+  with ``full``, the update uses ``pending`` (and it becomes ``held``, ``full`` clears);
+  otherwise the update uses ``held`` (zero-order hold). ``held`` is 0 after reset.
+- An update starting in cycle s computes ``T = X + R`` in cycle s; ``h``, the integrator, the
+  ``saturated`` flag and a one-cycle ``update`` strobe all change together, visible in cycle
+  ``s + L``. So ``P >= L`` guarantees every update sees the previous update's feedback.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+RULES = ("largest_duty", "exact_nearest")
+ALL_OFF = 0
+FEWEST_TRANSITIONS = 1
+ZERO_POLICIES = (ALL_OFF, FEWEST_TRANSITIONS)
+
+MIN_PHASES = 3
+MAX_WIDTH = 32
+
+
+def ceil_log2(value: int) -> int:
+    """Smallest ``b`` with ``2**b >= value`` (``value >= 1``)."""
+    return (value - 1).bit_length()
+
+
+def signed_bits(lo: int, hi: int) -> int:
+    """Bits of the smallest two's-complement word holding every integer in [lo, hi]."""
+    bits = 1
+    while not (-(1 << (bits - 1)) <= lo and hi <= (1 << (bits - 1)) - 1):
+        bits += 1
+    return bits
+
+
+def min_width(phases: int) -> int:
+    """Narrowest legal reference width for ``phases`` legs: ``FULL >= 16 N``.
+
+    The state lattice has spacing ``1/N`` Vdc; the reference must resolve it at least 16 times.
+    """
+    return 2 + ceil_log2(16 * phases)
+
+
+def sorting_network(n: int) -> list[list[tuple[int, int]]]:
+    """Batcher's odd-even merge sort for ``n`` inputs, as layers of comparators.
+
+    Built for the next power of two, comparators touching absent inputs removed (valid because
+    every comparator puts its larger element at its lower index), then scheduled as soon as
+    possible. Each pair ``(a, b)`` has ``a < b``: afterwards position ``a`` holds the element that
+    sorts first. The number of layers is the depth of sort1 in clocks.
+    """
+    if n < 1:
+        raise ValueError(f"sorting_network: n must be >= 1, not {n}")
+    size = 1 << ceil_log2(n)
+    comparators = []
+    span = 1
+    while span < size:
+        step = span
+        while step >= 1:
+            for j in range(step % span, size - step, 2 * step):
+                for i in range(min(step, size - j - step)):
+                    if (i + j) // (2 * span) == (i + j + step) // (2 * span):
+                        comparators.append((i + j, i + j + step))
+            step //= 2
+        span *= 2
+    ready = [0] * n
+    layers: list[list[tuple[int, int]]] = []
+    for a, b in comparators:
+        if b >= n:
+            continue
+        layer = max(ready[a], ready[b])
+        while len(layers) <= layer:
+            layers.append([])
+        layers[layer].append((a, b))
+        ready[a] = ready[b] = layer + 1
+    return layers
+
+
+#: candidates compared at once in one stage of the selector's max-tournament (all pairs)
+ARGMAX_GROUP = 4
+
+
+def argmax_stages(candidates: int) -> int:
+    """Pipeline stages of the max-tournament over ``candidates`` values, ``ARGMAX_GROUP`` a stage."""
+    stages, remaining = 0, candidates
+    while remaining > 1:
+        remaining = -(-remaining // ARGMAX_GROUP)
+        stages += 1
+    return stages
+
+
+def loop_latency(phases: int, rule: str = "largest_duty") -> int:
+    """Clocks from an update start to its result: the minimum update period ``L``.
+
+    1 (T = X + R) + depth(sort1) + 1 (duties or scores) + argmax stages + 1 (decode h)
+    + 1 (feedback and integrator commit).
+    """
+    if rule not in RULES:
+        raise ValueError(f"rule must be one of {RULES}, not {rule!r}")
+    return 1 + len(sorting_network(phases)) + 1 + argmax_stages(phases) + 1 + 1
+
+
+@dataclass(frozen=True)
+class Contract:
+    """Widths and bounds of one configuration; construction validates the parameters."""
+
+    phases: int = 3
+    width: int = 16
+
+    def __post_init__(self):
+        if not isinstance(self.phases, int) or self.phases < MIN_PHASES:
+            raise ValueError(f"phases must be an integer >= {MIN_PHASES}, not {self.phases!r}")
+        if not isinstance(self.width, int) or not (
+            min_width(self.phases) <= self.width <= MAX_WIDTH
+        ):
+            raise ValueError(
+                f"width must be an integer in [{min_width(self.phases)}, {MAX_WIDTH}] for "
+                f"{self.phases} phases (FULL = 2**(width-2) >= 16 * phases), not {self.width!r}"
+            )
+
+    @property
+    def full(self) -> int:
+        """Codes of one Vdc at the reference input."""
+        return 1 << (self.width - 2)
+
+    @property
+    def code_min(self) -> int:
+        return -(1 << (self.width - 1))
+
+    @property
+    def code_max(self) -> int:
+        return (1 << (self.width - 1)) - 1
+
+    @property
+    def unit(self) -> int:
+        """One Vdc in the internal (N-scaled) domain: ``N FULL``."""
+        return self.phases * self.full
+
+    @property
+    def r_bound(self) -> int:
+        """Largest ``|R_i|`` after common-mode removal."""
+        return (self.phases - 1) * ((1 << self.width) - 1)
+
+    @property
+    def r_width(self) -> int:
+        return signed_bits(-self.r_bound, self.r_bound)
+
+    @property
+    def x_width(self) -> int:
+        return self.width + ceil_log2(self.phases)
+
+    @property
+    def x_min(self) -> int:
+        return -(1 << (self.x_width - 1))
+
+    @property
+    def x_max(self) -> int:
+        return (1 << (self.x_width - 1)) - 1
+
+    @property
+    def t_width(self) -> int:
+        """Width of ``T = X + R``."""
+        return signed_bits(self.x_min - self.r_bound, self.x_max + self.r_bound)
+
+    @property
+    def u_bound(self) -> int:
+        """Largest ``|U_i|``: ``FULL (N - 1)``."""
+        return self.full * (self.phases - 1)

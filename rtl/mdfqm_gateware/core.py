@@ -1,0 +1,126 @@
+"""The MDFQM core: reference stage, integrators, sort1, candidates, sort2, decoder, sequencer."""
+
+from amaranth import Module, signed
+from amaranth.lib import data, stream, wiring
+from amaranth.lib.wiring import In, Out, connect
+
+from mdfqm_model.contract import loop_latency
+
+from .integrator import Integrator
+from .params import contract_for, validate_positive, validate_rule
+from .reference import ReferenceStage
+from .selector import ArgMax, Candidates, StateDecoder, candidate_width
+from .sequencer import UpdateSequencer
+from .sort import SortNetwork
+
+
+class MdfqmCore(wiring.Component):
+    """Multi-dimensional feedback quantisation (the paper's Case II, 0-bit pulse-width resolution).
+
+    One update every ``period`` clocks: ``T = X + R``; sort1; duties (or exact scores) of the
+    staircase states; sort2 picks the winner; it is un-permuted to the gate state ``h``; its
+    phase voltage is fed back into the integrators. Every bit and every clock follows
+    :mod:`mdfqm_model.contract` and is predicted by :class:`mdfqm_model.clock.CoreModel`.
+
+    Ports
+    -----
+    ref : In(stream.Signature(ArrayLayout(signed(width), phases)))
+        Phase references (``2**(width-2)`` codes per Vdc, any common mode). One beat is taken at
+        a time and used from the next sampling tick on (zero-order hold between ticks).
+    period : In(16)
+        Clocks per update, sampled at each update start; values below ``latency`` are used as
+        ``latency`` and flagged by ``period_clamped``.
+    osr : In(8)
+        Updates per reference sample, sampled at each update start; 0 acts as 1.
+    zero_policy : In(1)
+        0: the zero state is all-off (the paper). 1: all-off or all-on, whichever needs fewer
+        transitions from the previous state. Sampled at each update start.
+    h : Out(phases)
+        Gate state, bit i = upper switch of leg i on. Changes only with ``update``.
+    update : Out(1)
+        One-clock strobe: ``h`` (and ``saturated``) took this update's value this cycle.
+    start : Out(1)
+        High in the first clock of each update (use as sync out).
+    sample : Out(1)
+        High at an update start that samples the reference.
+    saturated : Out(1)
+        The last update hit the integrator bound and held the integrators (overmodulation).
+    period_clamped : Out(1)
+        The requested period was below ``latency`` at the last update start.
+
+    Parameters
+    ----------
+    phases : int >= 3
+    width : int in [min_width(phases), 32]
+        Reference width; ``FULL = 2**(width-2) >= 16 * phases``.
+    rule : "largest_duty" | "exact_nearest"
+        Selection rule (identical results for three phases).
+
+    Attributes
+    ----------
+    latency : int
+        Loop latency in clocks = the smallest update period (8 for three phases).
+    """
+
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty"):
+        self.contract = contract_for(phases, width)
+        self.rule = validate_rule(rule)
+        self.phases, self.width = phases, width
+        self.latency = loop_latency(phases, rule)
+        super().__init__({
+            "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
+            "period": In(16),
+            "osr": In(8),
+            "zero_policy": In(1),
+            "h": Out(phases),
+            "update": Out(1),
+            "start": Out(1),
+            "sample": Out(1),
+            "saturated": Out(1),
+            "period_clamped": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        n, c = self.phases, self.contract
+        m.submodules.sequencer = sequencer = UpdateSequencer(self.latency)
+        m.submodules.reference = reference = ReferenceStage(n, self.width)
+        m.submodules.integrator = integrator = Integrator(n, self.width)
+        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width)
+        m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
+        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width))
+        m.submodules.decoder = decoder = StateDecoder(n)
+        validate_positive(self.latency, "latency", minimum=1 + sort1.latency + 3)
+
+        connect(m, wiring.flipped(self.ref), reference.ref)
+        m.d.comb += [
+            sequencer.period.eq(self.period),
+            sequencer.osr.eq(self.osr),
+            sequencer.zero_policy.eq(self.zero_policy),
+            reference.tick.eq(sequencer.tick),
+            integrator.i_start.eq(sequencer.start),
+            integrator.i_r.eq(reference.r),
+            sort1.i_values.eq(integrator.o_t),
+            candidates.i_rho.eq(sort1.o_values),
+            candidates.i_valid.eq(sort1.o_valid),
+            sort2.i_values.eq(candidates.o_values),
+            sort2.i_valid.eq(candidates.o_valid),
+            # T, and so sort1's outputs, hold still until the next start (period >= latency).
+            decoder.i_perm.eq(sort1.o_index),
+            decoder.i_j.eq(sort2.o_index),
+            decoder.i_policy.eq(sequencer.policy),
+            decoder.i_h_prev.eq(self.h),
+            decoder.i_valid.eq(sort2.o_valid),
+            integrator.i_commit.eq(decoder.o_valid),
+            integrator.i_h.eq(decoder.o_h),
+            integrator.i_count.eq(decoder.o_count),
+            self.start.eq(sequencer.start),
+            self.sample.eq(sequencer.tick),
+            self.saturated.eq(integrator.o_saturated),
+            self.period_clamped.eq(sequencer.period_clamped),
+        ]
+        m.d.sync += sort1.i_valid.eq(sequencer.start)
+        m.d.sync += self.update.eq(decoder.o_valid)
+        with m.If(decoder.o_valid):
+            m.d.sync += self.h.eq(decoder.o_h)
+        return m

@@ -1,0 +1,81 @@
+"""`make`: write the drop-in Verilog of the default configuration and report what was built.
+
+    python -m mdfqm_gateware.generate --out build/generated [--phases 3 --width 16] [--lint]
+
+``--lint`` also runs ``verilator --lint-only -Wall`` on every generated file and fails on any
+warning.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from amaranth.back import verilog
+
+from .core import MdfqmCore
+
+
+#: (module name, constructor) of every drop-in file `make` writes
+def default_configs(phases: int, width: int):
+    return [
+        (f"mdfqm_core_n{phases}_w{width}", lambda: MdfqmCore(phases, width)),
+    ]
+
+
+def port_table(component) -> list[str]:
+    rows = []
+    for path, member, _ in component.signature.flatten(component):
+        name = "__".join(str(p) for p in path)
+        rows.append(f"  {member.flow.value:>3} {name:<22} {member.shape}")
+    return rows
+
+
+#: Verilator -Wall rules that fire on the *style* of Amaranth's Verilog backend, not on the design:
+#: every other rule is an error. Widths follow Amaranth's own (checked) arithmetic rules, which
+#: the backend writes with implicit extension; registers carry their reset value as an
+#: initialiser; View members and submodule ports keep named wires that nothing reads; one file
+#: holds the whole hierarchy.
+AMARANTH_STYLE_WAIVERS = ("DECLFILENAME", "MULTITOP", "PROCASSINIT", "WIDTHEXPAND", "WIDTHTRUNC",
+                          "UNUSEDSIGNAL")
+
+
+def lint(path: Path) -> None:
+    verilator = shutil.which("verilator")
+    if verilator is None:
+        sys.exit("lint: verilator not found on PATH (run through make)")
+    waivers = path.with_suffix(".vlt")
+    waivers.write_text("`verilator_config\n" + "".join(
+        f"lint_off -rule {rule}\n" for rule in AMARANTH_STYLE_WAIVERS))
+    result = subprocess.run([verilator, "--lint-only", "-Wall", str(waivers), str(path)],
+                            capture_output=True, text=True)
+    if result.returncode != 0 or "%Warning" in result.stderr:
+        sys.stderr.write(result.stderr)
+        sys.exit(f"lint: verilator -Wall reported warnings on {path}")
+    print(f"lint: verilator --lint-only -Wall clean: {path}")
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("build/generated"))
+    parser.add_argument("--phases", type=int, default=3)
+    parser.add_argument("--width", type=int, default=16)
+    parser.add_argument("--lint", action="store_true")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name, factory in default_configs(args.phases, args.width):
+        component = factory()
+        path = args.out / f"{name}.v"
+        path.write_text(verilog.convert(component, name=name, emit_src=False))
+        print(f"wrote {path}: {component.phases} phases, {component.width}-bit reference, "
+              f"rule {component.rule}, loop latency {component.latency} clocks")
+        print("\n".join(port_table(component)))
+        if args.lint:
+            lint(path)
+
+
+if __name__ == "__main__":
+    main()

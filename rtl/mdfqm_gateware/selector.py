@@ -1,0 +1,190 @@
+"""Selection: duties or exact scores of the staircase states, sort2 (the max-tournament), and
+the decoder that turns the winner back into the gate state h."""
+
+from amaranth import Cat, Const, Module, Mux, Signal, signed
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from mdfqm_model.contract import ARGMAX_GROUP, argmax_stages, signed_bits
+
+from .params import contract_for, validate_positive, validate_rule
+from .sort import validate_width
+
+
+def candidate_width(phases: int, width: int) -> int:
+    """Width of a duty or score: both are bounded by ``2 N max|T|`` plus the constant term."""
+    c = contract_for(phases, width)
+    t_max = 1 << (c.t_width - 1)
+    bound = 2 * phases * t_max + c.full * phases * phases
+    return signed_bits(-bound, bound)
+
+
+class Candidates(wiring.Component):
+    """Values of the N staircase candidates ``j = 0..N-1`` (``j = 0`` the zero class), one clock.
+
+    ``rule = "largest_duty"``: ``d_0 = N FULL - (rho_1 - rho_N)``, ``d_j = rho_j - rho_{j+1}``
+    (the patent's duties with both zero states combined, gamma = 1).
+    ``rule = "exact_nearest"``: ``S_j = 2 (rho_1 + ... + rho_j) - FULL j (N - j)``, ``S_0 = 0``.
+
+    Ports
+    -----
+    i_rho : In(ArrayLayout(signed(t_width), phases))
+        Sorted optimum signal (sort1's output), largest first.
+    i_valid : In(1)
+    o_values : Out(ArrayLayout(signed(candidate_width), phases))
+        Candidate values of ``i_rho`` one clock earlier.
+    o_valid : Out(1)
+        ``i_valid`` one clock earlier.
+    """
+
+    def __init__(self, phases: int, width: int, rule: str = "largest_duty"):
+        self.contract = contract_for(phases, width)
+        self.rule = validate_rule(rule)
+        self.phases, self.width = phases, width
+        self.value_width = candidate_width(phases, width)
+        super().__init__({
+            "i_rho": In(data.ArrayLayout(signed(self.contract.t_width), phases)),
+            "i_valid": In(1),
+            "o_values": Out(data.ArrayLayout(signed(self.value_width), phases)),
+            "o_valid": Out(1),
+        })
+
+    latency = 1
+
+    def elaborate(self, platform):
+        m = Module()
+        n, c = self.phases, self.contract
+        rho = [self.i_rho[i] for i in range(n)]
+        if self.rule == "largest_duty":
+            values = [c.unit - (rho[0] - rho[n - 1])]
+            values += [rho[j - 1] - rho[j] for j in range(1, n)]
+        else:
+            values = [Const(0)]
+            prefix = rho[0]
+            for j in range(1, n):
+                values.append((prefix << 1) - c.full * j * (n - j))
+                prefix = prefix + rho[j]
+        m.d.sync += [self.o_values[j].eq(values[j]) for j in range(n)]
+        m.d.sync += self.o_valid.eq(self.i_valid)
+        return m
+
+
+class ArgMax(wiring.Component):
+    """sort2: the position of the largest of ``count`` values, smallest position on ties.
+
+    Only the head of the paper's (N+1)-way duty sort is used (its first column), so sort2 is a
+    max-tournament: each stage compares groups of up to ``ARGMAX_GROUP`` entries all-pairs and
+    keeps each group's winner, so ``latency = argmax_stages(count)`` (1 for N <= 4).
+
+    Ports
+    -----
+    i_values : In(ArrayLayout(signed(width), count))
+    i_valid : In(1)
+    o_index : Out(range(count))
+        Position of the first maximum of ``i_values`` ``latency`` clocks earlier.
+    o_valid : Out(1)
+    """
+
+    def __init__(self, count: int, width: int):
+        validate_positive(count, "count", minimum=2)
+        validate_width(width)
+        self.count, self.width = count, width
+        super().__init__({
+            "i_values": In(data.ArrayLayout(signed(width), count)),
+            "i_valid": In(1),
+            "o_index": Out(range(count)),
+            "o_valid": Out(1),
+        })
+
+    @property
+    def latency(self) -> int:
+        return argmax_stages(self.count)
+
+    def elaborate(self, platform):
+        m = Module()
+        entries = [(self.i_values[i], Const(i, range(self.count))) for i in range(self.count)]
+        valid = self.i_valid
+        for stage in range(self.latency):
+            winners = []
+            for g, first in enumerate(range(0, len(entries), ARGMAX_GROUP)):
+                group = entries[first:first + ARGMAX_GROUP]
+                value = Signal(signed(self.width), name=f"s{stage}_g{g}_value")
+                index = Signal(range(self.count), name=f"s{stage}_g{g}_index")
+                # Entries of a group are in increasing original position: an earlier one wins
+                # ties, a later one must be strictly larger.
+                for i, (v_i, x_i) in enumerate(group):
+                    wins = Const(1)
+                    for j, (v_j, _) in enumerate(group):
+                        if j < i:
+                            wins = wins & (v_i > v_j)
+                        elif j > i:
+                            wins = wins & (v_i >= v_j)
+                    with m.If(wins):
+                        m.d.sync += [value.eq(v_i), index.eq(x_i)]
+                winners.append((value, index))
+            next_valid = Signal(name=f"s{stage}_valid")
+            m.d.sync += next_valid.eq(valid)
+            entries, valid = winners, next_valid
+        m.d.comb += [self.o_index.eq(entries[0][1]), self.o_valid.eq(valid)]
+        return m
+
+
+class StateDecoder(wiring.Component):
+    """Un-permute the winning staircase column into the gate state, applying the zero policy.
+
+    ``h`` has legs ``perm[0..j-1]`` on for ``j > 0``. For the zero class ``j = 0``: all-off, or
+    with ``policy = 1`` (fewest transitions) all-on when more than half the legs of ``h_prev`` are
+    on. One clock.
+
+    Ports
+    -----
+    i_perm : In(ArrayLayout(range(phases), phases))
+        ``i_perm[p]`` = leg at sorted position ``p`` (sort1's index output).
+    i_j : In(range(phases))
+        Winning candidate (sort2's output).
+    i_policy : In(1)
+        Zero-state policy: 0 all-off, 1 fewest transitions.
+    i_h_prev : In(phases)
+        The state output by the previous update.
+    i_valid : In(1)
+    o_h : Out(phases)
+        Gate state, bit i = leg i upper switch on.
+    o_count : Out(range(phases + 1))
+        Legs on in ``o_h``.
+    o_valid : Out(1)
+    """
+
+    latency = 1
+
+    def __init__(self, phases: int):
+        validate_positive(phases, "phases", minimum=3)
+        self.phases = phases
+        super().__init__({
+            "i_perm": In(data.ArrayLayout(range(phases), phases)),
+            "i_j": In(range(phases)),
+            "i_policy": In(1),
+            "i_h_prev": In(phases),
+            "i_valid": In(1),
+            "o_h": Out(phases),
+            "o_count": Out(range(phases + 1)),
+            "o_valid": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        n = self.phases
+        legs = []
+        for leg in range(n):
+            on = Const(0)
+            for position in range(n - 1):       # position n-1 is never on for j <= n-1
+                on = on | ((self.i_j > position) & (self.i_perm[position] == leg))
+            legs.append(on)
+        prev_on = sum(self.i_h_prev[i] for i in range(n))
+        all_on = self.i_policy & (prev_on * 2 > n)
+        with m.If(self.i_j == 0):
+            m.d.sync += [self.o_h.eq(Mux(all_on, (1 << n) - 1, 0)),
+                         self.o_count.eq(Mux(all_on, n, 0))]
+        with m.Else():
+            m.d.sync += [self.o_h.eq(Cat(*legs)), self.o_count.eq(self.i_j)]
+        m.d.sync += self.o_valid.eq(self.i_valid)
+        return m

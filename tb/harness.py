@@ -1,0 +1,178 @@
+"""Shared cocotb 2.x harness: elaborate an Amaranth component, build it with Verilator, run a
+cocotb test module against it, and compare every output on every clock with model vectors.
+
+Two halves:
+
+- pytest side (:func:`run_block`): called by the ``test_*`` functions that pytest collects. It
+  writes the component's Verilog into ``build/sim/<toplevel>-<params>/``, builds and runs the
+  simulation, and fails when any cocotb test failed. ``WAVES=1`` writes ``dump.fst`` in that
+  directory; ``SEED=<n>`` replays a random test (the seed is printed by every random test).
+- simulator side (:func:`start`, :func:`check_cycles`, ...): helpers used inside the cocotb tests.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+TB_DIR = Path(__file__).resolve().parent
+SIM_BUILD = ROOT / "build" / "sim"
+PARAMS_ENV = "MDFQM_TB_PARAMS"
+
+
+# --------------------------------------------------------------------------------------------
+# pytest side
+# --------------------------------------------------------------------------------------------
+
+def param_tag(params: Mapping[str, object]) -> str:
+    return "-".join(f"{key}{value}" for key, value in sorted(params.items())) or "default"
+
+
+def write_verilog(component, toplevel: str, directory: Path) -> Path:
+    """Convert ``component`` to Verilog as module ``toplevel``; rewrite only when it changed."""
+    from amaranth.back import verilog
+
+    directory.mkdir(parents=True, exist_ok=True)
+    path = directory / f"{toplevel}.v"
+    text = verilog.convert(component, name=toplevel, emit_src=False)
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+    return path
+
+
+def run_block(component_factory: Callable[[], object], toplevel: str, test_module: str,
+              params: Mapping[str, object], testcase: str | Sequence[str] | None = None,
+              extra_sources: Sequence[Path] = ()) -> None:
+    """Build ``component_factory()`` and run the cocotb tests of ``test_module`` on it.
+
+    ``params`` reach the cocotb side as :func:`params` (JSON in an environment variable).
+    """
+    from cocotb_tools.check_results import get_results
+    from cocotb_tools.runner import get_runner
+
+    waves = os.environ.get("WAVES") == "1"
+    build_dir = SIM_BUILD / f"{toplevel}-{param_tag(params)}"
+    source = write_verilog(component_factory(), toplevel, build_dir)
+    runner = get_runner("verilator")
+    runner.build(
+        sources=[source, *extra_sources],
+        hdl_toplevel=toplevel,
+        build_dir=build_dir,
+        build_args=["-Wno-fatal", *(["--trace-fst", "--trace-structs"] if waves else [])],
+        waves=waves,
+        timescale=("1ns", "1ps"),
+    )
+    env = {PARAMS_ENV: json.dumps(dict(params))}
+    results = runner.test(
+        test_module=test_module,
+        hdl_toplevel=toplevel,
+        build_dir=build_dir,
+        test_dir=TB_DIR,
+        testcase=testcase,
+        waves=waves,
+        extra_env=env,
+        seed=os.environ.get("SEED"),
+        results_xml=str(build_dir / f"results-{test_module}.xml"),
+    )
+    total, failed = get_results(results)
+    assert total > 0, f"{test_module}: no cocotb test ran"
+    assert failed == 0, f"{test_module}: {failed} of {total} cocotb tests failed (log above)"
+
+
+# --------------------------------------------------------------------------------------------
+# simulator side
+# --------------------------------------------------------------------------------------------
+
+def params() -> dict:
+    """The parameter set of this build (from :func:`run_block`)."""
+    return json.loads(os.environ.get(PARAMS_ENV, "{}"))
+
+
+def seeded_rng(dut, name: str) -> random.Random:
+    """A per-test random generator seeded from cocotb's seed (``SEED=`` replays), logged."""
+    import cocotb
+
+    seed = int(cocotb.RANDOM_SEED)
+    dut._log.info("%s: random seed %d (replay with SEED=%d)", name, seed, seed)
+    return random.Random(f"{seed}-{name}")
+
+
+async def start(dut, reset_cycles: int = 2):
+    """Start a 10 ns clock on ``clk`` and hold ``rst`` for ``reset_cycles`` clocks."""
+    from cocotb.clock import Clock
+    from cocotb.triggers import RisingEdge
+
+    Clock(dut.clk, 10, unit="ns").start()
+    dut.rst.value = 1
+    for _ in range(reset_cycles):
+        await RisingEdge(dut.clk)
+    dut.rst.value = 0
+
+
+def pack(values: Sequence[int], width: int) -> int:
+    """Pack signed/unsigned elements into the flat vector Amaranth makes of an ArrayLayout."""
+    mask = (1 << width) - 1
+    word = 0
+    for i, value in enumerate(values):
+        word |= (int(value) & mask) << (i * width)
+    return word
+
+
+def unpack(word: int, width: int, count: int, signed: bool = True) -> list[int]:
+    out = []
+    for i in range(count):
+        value = (word >> (i * width)) & ((1 << width) - 1)
+        if signed and value >> (width - 1):
+            value -= 1 << width
+        out.append(value)
+    return out
+
+
+class MismatchError(AssertionError):
+    pass
+
+
+async def check_cycles(dut, inputs: Mapping[str, Sequence[int]],
+                       expected: Mapping[str, Sequence[int | None]],
+                       decode: Mapping[str, Callable[[int], object]] | None = None) -> int:
+    """Drive ``inputs[name][c]`` in cycle ``c`` and compare ``expected[name][c]`` in that cycle.
+
+    Inputs are applied just after the rising edge that starts the cycle; outputs are read once
+    the cycle has settled (ReadOnly), so a registered output shows the state of that cycle and a
+    combinational one its response to that cycle's inputs. ``None`` in ``expected`` is "don't
+    care". Stops at the first mismatch with the cycle number, every input and every output.
+    Returns the number of cycles checked.
+    """
+    from cocotb.triggers import ReadOnly, RisingEdge
+
+    decode = dict(decode or {})
+    cycles = len(next(iter(inputs.values()))) if inputs else len(next(iter(expected.values())))
+    in_handles = {name: getattr(dut, name) for name in inputs}
+    out_handles = {name: getattr(dut, name) for name in expected}
+    for cycle in range(cycles):
+        for name, handle in in_handles.items():
+            handle.value = int(inputs[name][cycle])
+        await ReadOnly()
+        for name, handle in out_handles.items():
+            want = expected[name][cycle]
+            if want is None:
+                continue
+            got = int(handle.value)
+            if name in decode:
+                got = decode[name](got)
+            if got != want:
+                seen_in = {n: inputs[n][cycle] for n in inputs}
+                seen_out = {}
+                for n, h in out_handles.items():
+                    value = int(h.value)
+                    seen_out[n] = decode[n](value) if n in decode else value
+                wanted = {n: expected[n][cycle] for n in expected}
+                raise MismatchError(
+                    f"cycle {cycle}: output {name} = {got!r}, model expects {want!r}\n"
+                    f"  inputs:   {seen_in}\n  outputs:  {seen_out}\n  expected: {wanted}")
+        await RisingEdge(dut.clk)
+    return cycles

@@ -1,0 +1,76 @@
+"""sort1, the N-input sorting network, against the model's stable descending sort."""
+
+import cocotb
+import pytest
+
+from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
+from mdfqm_gateware.sort import SortNetwork
+from mdfqm_model.update import sort1
+
+CASES = [(n, 16) for n in (3, 4, 5, 6, 9)] + [(3, 12), (3, 18), (5, 12)]
+
+
+def make_stimulus(rng, count, width, cycles):
+    lo, hi = -(1 << (width - 1)), (1 << (width - 1)) - 1
+    pool = [lo, hi, 0, -1, 1]
+    vectors = []
+    for cycle in range(cycles):
+        kind = cycle % 4
+        if kind == 0:      # uniform random
+            vec = [rng.randint(lo, hi) for _ in range(count)]
+        elif kind == 1:    # few distinct values: ties everywhere
+            few = [rng.randint(lo, hi) for _ in range(2)]
+            vec = [rng.choice(few) for _ in range(count)]
+        elif kind == 2:    # extreme codes
+            vec = [rng.choice(pool) for _ in range(count)]
+        else:              # all equal
+            vec = [rng.randint(lo, hi)] * count
+        vectors.append(vec)
+    return vectors
+
+
+@cocotb.test()
+async def sort_random_and_ties(dut):
+    p = params()
+    count, width, latency = p["count"], p["width"], p["latency"]
+    rng = seeded_rng(dut, "sort_random_and_ties")
+    vectors = make_stimulus(rng, count, width, 2000)
+    valid = [rng.randint(0, 1) for _ in vectors]
+    index_width = max(1, (count - 1).bit_length())
+    want_values, want_index, want_valid = [], [], []
+    for cycle in range(len(vectors)):
+        if cycle < latency:                      # pipeline registers still hold their reset 0
+            want_values.append([0] * count)
+            want_index.append([0] * count)
+            want_valid.append(0)
+        else:
+            rho, perm = sort1(vectors[cycle - latency])
+            want_values.append(list(rho))
+            want_index.append(list(perm))
+            want_valid.append(valid[cycle - latency])
+    await start(dut)
+    await check_cycles(
+        dut,
+        {"i_values": [pack(v, width) for v in vectors], "i_valid": valid},
+        {"o_values": want_values, "o_index": want_index, "o_valid": want_valid},
+        decode={"o_values": lambda w: unpack(w, width, count),
+                "o_index": lambda w: unpack(w, index_width, count, signed=False)},
+    )
+
+
+@pytest.mark.parametrize(("count", "width"), CASES)
+def test_sort(count, width):
+    latency = SortNetwork(count, width).latency
+    run_block(lambda: SortNetwork(count, width), "sort_network", "test_sort",
+              {"count": count, "width": width, "latency": latency})
+
+
+@pytest.mark.parametrize(("count", "width", "message"), [
+    (1, 16, "count must be an integer >= 2, not 1"),
+    (3, 1, "width must be an integer in [2, 64], not 1"),
+    (3.0, 16, "count must be an integer >= 2, not 3.0"),
+])
+def test_sort_rejects_bad_parameters(count, width, message):
+    with pytest.raises(ValueError) as info:
+        SortNetwork(count, width)
+    assert str(info.value) == message
