@@ -1,0 +1,294 @@
+"""Clock-level model of the MDFQM core: predicts every output of the gateware on every clock.
+
+A plain per-cycle state machine implementing the section "Clock-level timing of the core" of
+:mod:`mdfqm_model.contract`; the arithmetic of each update is *not* duplicated here, it is
+:func:`mdfqm_model.update.mdfqm_update` called at the commit point.
+
+Registers (all reset synchronously to zero)
+-------------------------------------------
+- ``phase``: update sequencer; a cycle with ``phase == 0`` is an *update start*. At a start the
+  runtime inputs are latched: ``P = max(period, L)``, ``period_clamped <= (period < L)``
+  (a register, visible from the next cycle), ``osr = max(osr, 1)``, ``zero_policy``.
+  Next ``phase`` = 0 if ``phase + 1 >= P`` else ``phase + 1``, with ``P`` the value latched at the
+  start of the current update (in the start cycle itself: the value being latched).
+- ``sub``: update counter of the sampling switch; a start with ``sub == 0`` is a *sampling tick*
+  (output ``sample`` = 1 in that cycle). At every start ``sub <= 0 if sub + 1 >= osr else sub + 1``,
+  ``osr`` being the value latched at that start (this cycle's input, clamped to >= 1).
+- Reference stage: ``ready = not (s1 or s2 or full)`` (combinational from the registers). A beat
+  accepted in cycle ``a`` (``ref_valid and ready and not rst``) sets ``s1`` in ``a+1``, ``s2`` in
+  ``a+2`` and ``full`` with ``pending = R`` (common mode removed) in ``a+3``. At a sampling tick
+  with ``full`` the update uses ``pending`` (which becomes ``held``; ``full`` clears next cycle),
+  otherwise it uses ``held`` (zero-order hold; 0 after reset).
+- An update starting in cycle ``s`` takes ``X`` and ``R`` of cycle ``s``; its ``h``, integrator
+  ``X``, ``saturated`` flag and the one-cycle ``update`` strobe are visible in cycle ``s + L``
+  (``L = contract.loop_latency(N, rule)`` by default). ``P >= L`` guarantees at most one update in
+  flight, so the ``h_prev`` used by the zero policy (the ``h`` register at the commit) is the
+  previously output state.
+
+``step`` returns the outputs visible *during* the cycle (a function of the registers only), then
+advances the registers with that cycle's inputs. ``rst`` is synchronous: the outputs of the rst
+cycle come from the current state and the next state is the reset state (an in-flight update is
+discarded, no beat is accepted).
+
+Input ranges: ``ref`` entries are ``width``-bit two's complement codes, ``period`` unsigned 16-bit,
+``osr`` unsigned 8-bit, ``zero_policy`` 0/1, ``rst``/``ref_valid`` 0/1; anything else raises
+``ValueError``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from .contract import Contract, loop_latency
+from .update import mdfqm_update, remove_common_mode, validate_rule, validate_zero_policy
+
+__all__ = ["OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel"]
+
+#: names of the per-cycle outputs, in the order of :meth:`CoreModel.step`'s dict
+OUTPUTS = ("ref_ready", "sample", "h", "update", "saturated", "period_clamped")
+#: largest value of the unsigned 16-bit ``period`` input
+PERIOD_MAX = (1 << 16) - 1
+#: largest value of the unsigned 8-bit ``osr`` input
+OSR_MAX = (1 << 8) - 1
+
+
+def _bit(value, name: str) -> int:
+    if isinstance(value, (bool, np.bool_)):
+        return int(value)
+    if isinstance(value, (int, np.integer)) and value in (0, 1):
+        return int(value)
+    raise ValueError(f"{name} must be 0 or 1, not {value!r}")
+
+
+def _uint(value, bits: int, name: str) -> int:
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, (int, np.integer))
+        or not 0 <= value < (1 << bits)
+    ):
+        raise ValueError(f"{name} must be an unsigned {bits}-bit integer, not {value!r}")
+    return int(value)
+
+
+class CoreModel:
+    """Cycle-accurate model of the core (reference stage, sequencer, sampling switch, MDFQM loop).
+
+    ``phases`` N >= 3, ``width`` W (``FULL = 2**(W-2)``), ``rule`` one of ``contract.RULES``,
+    ``latency`` the loop latency L in clocks (default ``contract.loop_latency(phases, rule)``).
+    """
+
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty", latency=None):
+        self.contract = Contract(phases, width)
+        self.rule = validate_rule(rule)
+        if latency is None:
+            latency = loop_latency(phases, rule)
+        if isinstance(latency, bool) or not isinstance(latency, (int, np.integer)) or latency < 1:
+            raise ValueError(f"latency must be an integer >= 1, not {latency!r}")
+        self.latency = int(latency)
+        self.phases = phases
+        self.reset()
+
+    # ------------------------------------------------------------------ state
+    def reset(self) -> None:
+        """Put every register in its reset state (all zero)."""
+        n = self.phases
+        self.phase = 0
+        self.p_lat = 0
+        self.period_clamped = 0
+        self.sub = 0
+        self.osr_lat = 0
+        self.policy_lat = 0
+        self.s1 = 0
+        self.s1_data: tuple[int, ...] = (0,) * n
+        self.s2 = 0
+        self.s2_data: tuple[int, ...] = (0,) * n
+        self.full = 0
+        self.pending: tuple[int, ...] = (0,) * n
+        self.held: tuple[int, ...] = (0,) * n
+        self.x: tuple[int, ...] = (0,) * n
+        self.h = 0
+        self.saturated = 0
+        self.update = 0
+        # the update in flight: [cycles until commit, X, R, zero_policy] or None
+        self.inflight = None
+        self.cycle = 0
+
+    @property
+    def ref_ready(self) -> int:
+        return int(not (self.s1 or self.s2 or self.full))
+
+    def outputs(self) -> dict:
+        """The outputs visible in the current cycle (a function of the registers only)."""
+        return {
+            "ref_ready": self.ref_ready,
+            "sample": int(self.phase == 0 and self.sub == 0),
+            "h": self.h,
+            "update": self.update,
+            "saturated": self.saturated,
+            "period_clamped": self.period_clamped,
+        }
+
+    def _check_ref(self, ref: Sequence[int]) -> tuple[int, ...]:
+        c = self.contract
+        vals = tuple(ref)
+        if len(vals) != self.phases:
+            raise ValueError(f"ref must have {self.phases} entries, got {len(vals)}")
+        out = []
+        for v in vals:
+            if (
+                isinstance(v, (bool, np.bool_))
+                or not isinstance(v, (int, np.integer))
+                or not c.code_min <= v <= c.code_max
+            ):
+                raise ValueError(
+                    f"ref entries must be {c.width}-bit codes in [{c.code_min}, {c.code_max}], "
+                    f"not {v!r}"
+                )
+            out.append(int(v))
+        return tuple(out)
+
+    # ------------------------------------------------------------------ one clock
+    def step(
+        self,
+        rst=0,
+        ref_valid=0,
+        ref=None,
+        period=None,
+        osr=1,
+        zero_policy=0,
+    ) -> dict:
+        """Outputs visible during this cycle, then advance to the next cycle.
+
+        ``ref`` defaults to all-zero codes; ``period=None`` means ``L`` (the minimum legal period).
+        """
+        rst = _bit(rst, "rst")
+        ref_valid = _bit(ref_valid, "ref_valid")
+        ref = (0,) * self.phases if ref is None else self._check_ref(ref)
+        period = self.latency if period is None else _uint(period, 16, "period")
+        osr = _uint(osr, 8, "osr")
+        if isinstance(zero_policy, np.integer):
+            zero_policy = int(zero_policy)
+        zero_policy = validate_zero_policy(zero_policy)
+        out = self.outputs()
+        self.cycle += 1
+        if rst:
+            cycle = self.cycle
+            self.reset()
+            self.cycle = cycle
+            return out
+
+        # ---- reference stage (next-state values)
+        accept = ref_valid and self.ref_ready
+        start = self.phase == 0
+        tick = start and self.sub == 0
+        use_pending = tick and self.full
+        r_for_update = self.pending if use_pending else self.held
+        n_full, n_pending, n_held = self.full, self.pending, self.held
+        if use_pending:
+            n_held, n_full = self.pending, 0
+        if self.s2:
+            n_full, n_pending = 1, tuple(remove_common_mode(self.s2_data, self.phases))
+        n_s2, n_s2_data = self.s1, (self.s1_data if self.s1 else self.s2_data)
+        n_s1, n_s1_data = int(accept), (ref if accept else self.s1_data)
+
+        # ---- sequencer and sampling switch
+        if start:
+            p = max(period, self.latency)
+            self.p_lat = p
+            self.period_clamped = int(period < self.latency)
+            self.osr_lat = max(osr, 1)
+            self.policy_lat = zero_policy
+            self.sub = 0 if self.sub + 1 >= self.osr_lat else self.sub + 1
+            self.phase = 0 if p <= 1 else 1
+            if self.inflight is not None:  # impossible while P >= L
+                raise AssertionError("update started while another is in flight")
+            self.inflight = [self.latency, self.x, r_for_update, zero_policy]
+        else:
+            self.phase = 0 if self.phase + 1 >= self.p_lat else self.phase + 1
+
+        self.s1, self.s1_data = n_s1, n_s1_data
+        self.s2, self.s2_data = n_s2, n_s2_data
+        self.full, self.pending, self.held = n_full, n_pending, n_held
+
+        # ---- the loop: commit the update in flight when its result becomes visible
+        self.update = 0
+        if self.inflight is not None:
+            self.inflight[0] -= 1
+            if self.inflight[0] == 0:
+                _, x, r, policy = self.inflight
+                res = mdfqm_update(x, r, self.h, self.contract, self.rule, policy)
+                self.h = res.h
+                self.x = res.x_next
+                self.saturated = int(res.saturated)
+                self.update = 1
+                self.inflight = None
+        return out
+
+    # ------------------------------------------------------------------ many clocks
+    def simulate(self, stim: dict, trace_state: bool = False) -> dict:
+        """Run ``C`` cycles from the current state.
+
+        ``stim`` maps input names (``rst``, ``ref_valid``, ``ref`` (C x N), ``period``, ``osr``,
+        ``zero_policy``) to arrays of length ``C`` or scalars (held for all cycles); a missing
+        input takes :meth:`step`'s default. ``C`` is the length of the array inputs, or
+        ``stim["cycles"]`` when all inputs are scalars. Returns the outputs as int64 arrays of
+        length ``C``; with ``trace_state`` also ``x`` (C x N, the integrator visible in each cycle)
+        and ``phase``, ``sub``, ``full``.
+        """
+        names = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy")
+        unknown = set(stim) - set(names) - {"cycles"}
+        if unknown:
+            raise ValueError(f"unknown stimulus names {sorted(unknown)}; known: {names}")
+        lengths = set()
+        cols = {}
+        for name in names:
+            if name not in stim:
+                continue
+            a = np.asarray(stim[name])
+            if name == "ref":
+                if a.ndim == 1:
+                    if a.shape[0] != self.phases:
+                        raise ValueError(f"ref must be C x {self.phases} or {self.phases} values")
+                    cols[name] = ("scalar", tuple(int(v) for v in a))
+                    continue
+                if a.ndim != 2 or a.shape[1] != self.phases:
+                    raise ValueError(f"ref must be C x {self.phases}, got shape {a.shape}")
+                cols[name] = ("array", a.tolist())
+                lengths.add(a.shape[0])
+            elif a.ndim == 0:
+                cols[name] = ("scalar", a.item())
+            elif a.ndim == 1:
+                cols[name] = ("array", a.tolist())
+                lengths.add(a.shape[0])
+            else:
+                raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {a.shape}")
+        if len(lengths) > 1:
+            raise ValueError(f"stimulus arrays differ in length: {sorted(lengths)}")
+        if lengths:
+            c = lengths.pop()
+            if "cycles" in stim and stim["cycles"] != c:
+                raise ValueError("stim['cycles'] disagrees with the array lengths")
+        elif "cycles" in stim:
+            c = int(stim["cycles"])
+        else:
+            raise ValueError("give at least one stimulus array or stim['cycles']")
+        out = {k: np.zeros(c, dtype=np.int64) for k in OUTPUTS}
+        if trace_state:
+            out["x"] = np.zeros((c, self.phases), dtype=np.int64)
+            for k in ("phase", "sub", "full"):
+                out[k] = np.zeros(c, dtype=np.int64)
+        for i in range(c):
+            kw = {}
+            for name, (kind, v) in cols.items():
+                kw[name] = v[i] if kind == "array" else v
+            if trace_state:
+                out["x"][i] = self.x
+                out["phase"][i] = self.phase
+                out["sub"][i] = self.sub
+                out["full"][i] = self.full
+            o = self.step(**kw)
+            for k in OUTPUTS:
+                out[k][i] = o[k]
+        return out

@@ -1,0 +1,294 @@
+"""Clock-level model: the timing rules of contract.py's "Clock-level timing of the core"."""
+
+import numpy as np
+import pytest
+
+from mdfqm_model.clock import CoreModel
+from mdfqm_model.contract import FEWEST_TRANSITIONS, Contract, loop_latency
+from mdfqm_model.update import modulate
+
+
+def starts_of(model, cycles, **kw):
+    """Run and return (outputs, cycles that were update starts) via trace_state."""
+    out = model.simulate({"cycles": cycles, **kw}, trace_state=True)
+    return out, np.flatnonzero(out["phase"] == 0)
+
+
+def test_reset_state_outputs():
+    m = CoreModel()
+    o = m.step()
+    assert o == {
+        "ref_ready": 1,
+        "sample": 1,
+        "h": 0,
+        "update": 0,
+        "saturated": 0,
+        "period_clamped": 0,
+    }
+
+
+@pytest.mark.parametrize(
+    "phases,rule", [(3, "largest_duty"), (5, "exact_nearest"), (8, "largest_duty")]
+)
+@pytest.mark.parametrize("period", [None, 13])
+def test_update_strobe_exactly_latency_after_each_start(phases, rule, period):
+    m = CoreModel(phases, 16, rule)
+    L = loop_latency(phases, rule)
+    assert m.latency == L
+    p = L if period is None else max(period, L)
+    out, starts = starts_of(m, 10 * p + 3, period=p)
+    assert (np.diff(starts) == p).all() and starts[0] == 0
+    strobes = np.flatnonzero(out["update"])
+    assert list(strobes) == [s + L for s in starts if s + L < len(out["update"])]
+
+
+def test_h_changes_exactly_latency_after_start():
+    c = Contract(3, 16)
+    f = c.full
+    m = CoreModel(3, 16)
+    L = m.latency
+    # load a reference that makes the first real update output state 001
+    ref = (f, 0, 0)
+    m.step(ref_valid=1, ref=ref, period=20)  # cycle 0: accepted, also update start 0 (held = 0)
+    out = m.simulate({"cycles": 60, "period": 20})
+    # starts at 0, 20, 40 (cycle numbers of the whole run); the tick at 20 uses the pending beat
+    h = np.concatenate([[0], out["h"]])
+    changes = np.flatnonzero(np.diff(h)) + 1
+    assert list(changes) == [20 + L]
+    assert h[20 + L] == 0b001
+
+
+def test_period_clamping():
+    m = CoreModel(3, 16)
+    L = m.latency
+    out, starts = starts_of(m, 5 * L, period=3)
+    assert (np.diff(starts) == L).all()
+    # registered: low in the first start cycle, high from the next cycle on
+    assert out["period_clamped"][0] == 0 and (out["period_clamped"][1:] == 1).all()
+    # period 0 is clamped too; period == L is not
+    m.reset()
+    out = m.simulate({"cycles": 3 * L, "period": L})
+    assert not out["period_clamped"].any()
+    m.reset()
+    out = m.simulate({"cycles": 3, "period": 0})
+    assert list(out["period_clamped"]) == [0, 1, 1]
+
+
+def test_period_latched_at_update_start():
+    m = CoreModel(3, 16)
+    L = m.latency
+    # period 12 during the first update, then 30 presented mid-update: the change takes effect
+    # only at the next start
+    per = np.full(100, 30)
+    per[0] = 12
+    out = m.simulate({"period": per}, trace_state=True)
+    starts = np.flatnonzero(out["phase"] == 0)
+    assert list(starts[:4]) == [0, 12, 42, 72]
+    # a mid-update change of period does not move the current update's end
+    m.reset()
+    per = np.full(60, 20)
+    per[5] = 9  # not a start cycle: ignored
+    out = m.simulate({"period": per}, trace_state=True)
+    assert list(np.flatnonzero(out["phase"] == 0)[:3]) == [0, 20, 40]
+    assert L <= 12
+
+
+@pytest.mark.parametrize("osr", [0, 1, 2, 4, 7])
+def test_osr_tick_spacing(osr):
+    m = CoreModel(3, 16)
+    p = 11
+    out, starts = starts_of(m, 40 * p, period=p, osr=osr)
+    ticks = np.flatnonzero(out["sample"])
+    assert set(ticks) <= set(starts)
+    assert ticks[0] == 0
+    assert (np.diff(ticks) == max(osr, 1) * p).all()
+
+
+def test_osr_change_applies_at_each_start():
+    # sub <- 0 if sub + 1 >= osr else sub + 1, with the osr input of that start
+    m = CoreModel(3, 16)
+    p = m.latency
+    osr = np.full(20 * p, 4)
+    osr[3 * p :] = 2  # from the 4th start on (sub == 3 there) osr = 2 -> sub + 1 >= 2 -> 0
+    out, _starts = starts_of(m, 20 * p, period=p, osr=osr)
+    ticks = list(np.flatnonzero(out["sample"]) // p)  # in units of updates
+    assert ticks[:4] == [0, 4, 6, 8]
+
+
+def test_ready_handshake_timing():
+    m = CoreModel(3, 16)
+    p = 10
+    osr = 3
+    ready, accepted = [], []
+    for cyc in range(200):
+        o = m.step(ref_valid=1, ref=(cyc, -cyc, 0), period=p, osr=osr)
+        ready.append(o["ref_ready"])
+        if o["ref_ready"]:
+            accepted.append(cyc)
+    ticks = [t for t in range(200) if t % (p * osr) == 0]
+    # first beat accepted at 0; each following one in the cycle after the tick that consumed the
+    # pending beat (the ticks at 30, 60, ... all find 'full' since a + 3 <= tick)
+    assert accepted == [0] + [t + 1 for t in ticks[1:]]
+    for a in accepted:
+        assert ready[a] == 1
+        # low in a+1 (s1), a+2 (s2), a+3 .. the consuming tick (full)
+        nxt = [t for t in ticks if t > a + 2]
+        end = nxt[0] if nxt else 200
+        assert all(r == 0 for r in ready[a + 1 : min(end + 1, 200)])
+
+
+def test_tick_in_flight_uses_held_then_pending_at_a_plus_3():
+    c = Contract(3, 16)
+    f = c.full
+    L = loop_latency(3)
+    p = L
+    # beat accepted at cycle a = p - 2: at the tick at cycle p it is in s2 (not full):
+    # that update uses held (0). The tick at 2p sees full and uses it.
+    m = CoreModel(3, 16)
+    ref = (f, 0, 0)
+    valid = np.zeros(5 * p, dtype=int)
+    valid[p - 2] = 1
+    refs = np.zeros((5 * p, 3), dtype=int)
+    refs[p - 2] = ref
+    out = m.simulate({"ref_valid": valid, "ref": refs, "period": p})
+    assert out["h"][p + L] == 0 and out["h"][2 * p + L] == 0b001
+    # accepted at a = p - 3: full is visible at cycle p, exactly the tick -> used there
+    m.reset()
+    valid = np.zeros(5 * p, dtype=int)
+    valid[p - 3] = 1
+    refs = np.zeros((5 * p, 3), dtype=int)
+    refs[p - 3] = ref
+    out = m.simulate({"ref_valid": valid, "ref": refs, "period": p}, trace_state=True)
+    assert out["full"][p] == 1 and out["full"][p + 1] == 0
+    assert out["ref_ready"][p] == 0 and out["ref_ready"][p + 1] == 1
+    assert out["h"][p + L] == 0b001
+
+
+def test_reset_mid_run():
+    m = CoreModel(3, 16)
+    f = m.contract.full
+    L = m.latency
+    p = L + 4
+    for _ in range(3 * p):
+        m.step(ref_valid=1, ref=(f // 2, -f // 2, 0), period=p)
+    # pick a cycle with an update in flight and a beat pending
+    while m.inflight is None:
+        m.step(ref_valid=1, ref=(f // 2, -f // 2, 0), period=p)
+    before = m.outputs()
+    o = m.step(rst=1, ref_valid=1, ref=(f, f, f), period=p)
+    assert o == before  # outputs of the rst cycle come from the state before
+    after = [m.step(period=p) for _ in range(2 * p)]
+    assert after[0] == {
+        "ref_ready": 1,
+        "sample": 1,
+        "h": 0,
+        "update": 0,
+        "saturated": 0,
+        "period_clamped": 0,
+    }
+    # the in-flight update was discarded: the first strobe is L after the post-reset start
+    strobes = [i for i, a in enumerate(after) if a["update"]]
+    assert strobes[0] == L
+    assert m.held == (0, 0, 0)  # the beat presented with rst was not accepted
+    assert all(a["h"] == 0 for a in after)  # held = 0 -> zero state
+
+
+@pytest.mark.parametrize(
+    "phases,rule,policy,osr",
+    [
+        (3, "largest_duty", 0, 4),
+        (3, "largest_duty", FEWEST_TRANSITIONS, 2),
+        (4, "exact_nearest", FEWEST_TRANSITIONS, 1),
+        (6, "largest_duty", 0, 3),
+    ],
+)
+def test_clock_matches_per_update_model(phases, rule, policy, osr, rng):
+    """Drive a ready-respecting stream; the update results equal modulate() on the beats."""
+    c = Contract(phases, 14)
+    k = 25
+    beats = rng.integers(-c.full, c.full, size=(k, phases))
+    m = CoreModel(phases, 14, rule)
+    p = m.latency + int(rng.integers(0, 4))
+    q = 0
+    hs, sats = [], []
+    for _ in range((k + 2) * osr * p + m.latency):
+        ref = beats[q] if q < k else beats[-1]
+        o = m.step(ref_valid=int(q < k), ref=ref, period=p, osr=osr, zero_policy=policy)
+        if o["ref_ready"] and q < k:
+            q += 1
+        if o["update"]:
+            hs.append(o["h"])
+            sats.append(o["saturated"])
+    # tick 0 uses held = 0; tick j >= 1 uses beat j - 1 (a beat is always pending in time)
+    samples = np.vstack([np.zeros((1, phases), dtype=np.int64), beats])
+    h_ref, _x_ref, s_ref = modulate(samples, c, rule, policy, osr)
+    assert len(hs) >= (k + 1) * osr
+    nn = (k + 1) * osr
+    hs, sats = hs[:nn], sats[:nn]
+    assert hs == list(h_ref[:nn]) and sats == list(s_ref[:nn].astype(int))
+    assert len(h_ref) == nn
+
+
+def test_zero_policy_latched_at_start():
+    m = CoreModel(3, 16)
+    f = m.contract.full
+    L = m.latency
+    p = 2 * L
+    c = 8 * p
+    valid = np.zeros(c, dtype=int)
+    refs = np.zeros((c, 3), dtype=int)
+    valid[0] = 1
+    refs[0] = (f, f, 0)  # R = (F, F, -2F): exactly the state 011, X stays 0
+    valid[p + 1] = 1  # a zero beat right after the tick at p consumed the first one
+    pol = np.zeros(c, dtype=int)
+    pol[2 * p] = FEWEST_TRANSITIONS  # only in start cycles does the input matter
+    pol[2 * p + 1 : 3 * p] = FEWEST_TRANSITIONS - 1
+    pol[3 * p + 1 : 4 * p] = FEWEST_TRANSITIONS  # not start cycles: ignored
+    pol[4 * p] = FEWEST_TRANSITIONS
+    out = m.simulate({"ref_valid": valid, "ref": refs, "period": p, "zero_policy": pol})
+    assert out["ref_ready"][p + 1] == 1
+    assert out["h"][p + L] == 0b011
+    assert out["h"][2 * p + L] == 0b111  # policy 1 at start 2p, h_prev = 011 -> all on
+    assert out["h"][3 * p + L] == 0b000  # policy 0 at start 3p -> all off
+    assert out["h"][4 * p + L] == 0b000  # policy 1, h_prev = 000 -> all off
+
+
+def test_saturated_flag_visible_with_update():
+    c = Contract(3, 16)
+    m = CoreModel(3, 16)
+    L = m.latency
+    worst = (c.code_max, c.code_min, c.code_min)
+    out = m.simulate({"ref_valid": 1, "ref": worst, "period": L, "cycles": 40 * L})
+    upd = np.flatnonzero(out["update"])
+    assert out["saturated"].any()
+    # the flag only changes at update strobes
+    changes = np.flatnonzero(np.diff(out["saturated"])) + 1
+    assert set(changes) <= set(upd)
+
+
+def test_validation_messages():
+    m = CoreModel(3, 16)
+    with pytest.raises(ValueError, match="period must be an unsigned 16-bit"):
+        m.step(period=1 << 16)
+    with pytest.raises(ValueError, match="period must be an unsigned 16-bit"):
+        m.step(period=-1)
+    with pytest.raises(ValueError, match="osr must be an unsigned 8-bit"):
+        m.step(osr=256)
+    with pytest.raises(ValueError, match="zero_policy must be one of"):
+        m.step(zero_policy=3)
+    with pytest.raises(ValueError, match="rst must be 0 or 1"):
+        m.step(rst=2)
+    with pytest.raises(ValueError, match="ref entries must be 16-bit codes"):
+        m.step(ref=(1 << 15, 0, 0))
+    with pytest.raises(ValueError, match="ref must have 3 entries"):
+        m.step(ref=(0, 0))
+    with pytest.raises(ValueError, match="rule must be one of"):
+        CoreModel(3, 16, "fast")
+    with pytest.raises(ValueError, match="latency must be an integer >= 1"):
+        CoreModel(3, 16, latency=0)
+    with pytest.raises(ValueError, match="width must be an integer"):
+        CoreModel(3, 4)
+    with pytest.raises(ValueError, match="differ in length"):
+        m.simulate({"rst": np.zeros(3), "ref_valid": np.zeros(4)})
+    with pytest.raises(ValueError, match="unknown stimulus"):
+        m.simulate({"reff": np.zeros(3)})
