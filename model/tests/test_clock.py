@@ -7,6 +7,8 @@ from mdfqm_model.clock import CoreModel
 from mdfqm_model.contract import FEWEST_TRANSITIONS, Contract, loop_latency
 from mdfqm_model.update import modulate
 
+OUTPUTS6 = ("ref_ready", "sample", "h", "update", "saturated", "period_clamped")
+
 
 def starts_of(model, cycles, **kw):
     """Run and return (outputs, cycles that were update starts) via trace_state."""
@@ -17,7 +19,7 @@ def starts_of(model, cycles, **kw):
 def test_reset_state_outputs():
     m = CoreModel()
     o = m.step()
-    assert o == {
+    assert {k: o[k] for k in OUTPUTS6} == {
         "ref_ready": 1,
         "sample": 1,
         "h": 0,
@@ -178,7 +180,7 @@ def test_reset_mid_run():
     o = m.step(rst=1, ref_valid=1, ref=(f, f, f), period=p)
     assert o == before  # outputs of the rst cycle come from the state before
     after = [m.step(period=p) for _ in range(2 * p)]
-    assert after[0] == {
+    assert {k: after[0][k] for k in OUTPUTS6} == {
         "ref_ready": 1,
         "sample": 1,
         "h": 0,
