@@ -15,8 +15,8 @@ CASES = [(3, 16, "largest_duty"), (3, 16, "exact_nearest"), (3, 12, "largest_dut
          (5, 16, "exact_nearest"), (6, 16, "largest_duty"), (9, 16, "exact_nearest"),
          (9, 12, "largest_duty")]
 
-OUTPUTS = {"ref__ready": "ref_ready", "h": "h", "update": "update", "sample": "sample",
-           "saturated": "saturated", "period_clamped": "period_clamped"}
+OUTPUTS = {"ref__ready": "ref_ready", "start": "start", "h": "h", "update": "update",
+           "sample": "sample", "saturated": "saturated", "period_clamped": "period_clamped"}
 
 
 def sine_codes(contract, amplitude, angle, offset=0):
@@ -50,7 +50,7 @@ def generate(rng, scenario, contract, rule, cycles):
     amplitude, offset = 0.9 * lin, 0.0
     offered = None
     stim = {"rst": [], "ref__valid": [], "ref__payload": [], "period": [], "osr": [],
-            "zero_policy": []}
+            "zero_policy": [], "sync_in": []}
     expected = {name: [] for name in OUTPUTS}
     for cycle in range(cycles):
         rst = 0
@@ -81,10 +81,11 @@ def generate(rng, scenario, contract, rule, cycles):
                 offered = sine_codes(contract, amplitude, angle, offset)
             if scenario in ("ties", "extremes"):
                 policy = rng.randint(0, 1)
+        sync_in = int(scenario == "runtime" and rng.random() < 0.05)
         valid = int(offered is not None)
         payload = offered or [0] * n
         out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
-                         zero_policy=policy)
+                         zero_policy=policy, sync_in=sync_in)
         if valid and out["ref_ready"] and not rst:
             offered = None
         stim["rst"].append(rst)
@@ -93,6 +94,7 @@ def generate(rng, scenario, contract, rule, cycles):
         stim["period"].append(period)
         stim["osr"].append(osr)
         stim["zero_policy"].append(policy)
+        stim["sync_in"].append(sync_in)
         for port, key in OUTPUTS.items():
             expected[port].append(out[key])
     return stim, expected
@@ -122,7 +124,7 @@ async def core_overmodulation(dut):
 
 @cocotb.test()
 async def core_runtime_and_reset(dut):
-    """Periods below the loop latency (clamped), OSR 0, resets in the middle of updates."""
+    """Periods below the loop latency (clamped), OSR 0, resets in the middle of updates, sync."""
     await run_scenario(dut, "runtime", params().get("cycles", 20000) // 2)
 
 

@@ -11,6 +11,11 @@ Registers (all reset synchronously to zero)
   (a register, visible from the next cycle), ``osr = max(osr, 1)``, ``zero_policy``.
   Next ``phase`` = 0 if ``phase + 1 >= P`` else ``phase + 1``, with ``P`` the value latched at the
   start of the current update (in the start cycle itself: the value being latched).
+- ``sync_in`` (instances sharing update boundaries): high in a cycle whose ``phase + 1 >= L``
+  (the update in flight has committed by the next cycle) makes the next cycle an update start;
+  earlier in an update it is ignored, so it can never cut an update short. ``start`` (output) is
+  high in every update start cycle: wire one instance's ``start`` to the others' ``sync_in`` and
+  they start one clock after it.
 - ``sub``: update counter of the sampling switch; a start with ``sub == 0`` is a *sampling tick*
   (output ``sample`` = 1 in that cycle). At every start ``sub <= 0 if sub + 1 >= osr else sub + 1``,
   ``osr`` being the value latched at that start (this cycle's input, clamped to >= 1).
@@ -47,7 +52,7 @@ from .update import mdfqm_update, remove_common_mode, validate_rule, validate_ze
 __all__ = ["OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel"]
 
 #: names of the per-cycle outputs, in the order of :meth:`CoreModel.step`'s dict
-OUTPUTS = ("ref_ready", "sample", "h", "update", "saturated", "period_clamped")
+OUTPUTS = ("ref_ready", "start", "sample", "h", "update", "saturated", "period_clamped")
 #: largest value of the unsigned 16-bit ``period`` input
 PERIOD_MAX = (1 << 16) - 1
 #: largest value of the unsigned 8-bit ``osr`` input
@@ -123,6 +128,7 @@ class CoreModel:
         """The outputs visible in the current cycle (a function of the registers only)."""
         return {
             "ref_ready": self.ref_ready,
+            "start": int(self.phase == 0),
             "sample": int(self.phase == 0 and self.sub == 0),
             "h": self.h,
             "update": self.update,
@@ -158,6 +164,7 @@ class CoreModel:
         period=None,
         osr=1,
         zero_policy=0,
+        sync_in=0,
     ) -> dict:
         """Outputs visible during this cycle, then advance to the next cycle.
 
@@ -171,6 +178,7 @@ class CoreModel:
         if isinstance(zero_policy, np.integer):
             zero_policy = int(zero_policy)
         zero_policy = validate_zero_policy(zero_policy)
+        sync_in = _bit(sync_in, "sync_in")
         out = self.outputs()
         self.cycle += 1
         if rst:
@@ -201,12 +209,13 @@ class CoreModel:
             self.osr_lat = max(osr, 1)
             self.policy_lat = zero_policy
             self.sub = 0 if self.sub + 1 >= self.osr_lat else self.sub + 1
-            self.phase = 0 if p <= 1 else 1
+            self.phase = 0 if p <= 1 else 1  # sync_in cannot restart here: 1 < L
             if self.inflight is not None:  # impossible while P >= L
                 raise AssertionError("update started while another is in flight")
             self.inflight = [self.latency, self.x, r_for_update, zero_policy]
         else:
-            self.phase = 0 if self.phase + 1 >= self.p_lat else self.phase + 1
+            restart = sync_in and self.phase + 1 >= self.latency
+            self.phase = 0 if restart or self.phase + 1 >= self.p_lat else self.phase + 1
 
         self.s1, self.s1_data = n_s1, n_s1_data
         self.s2, self.s2_data = n_s2, n_s2_data
@@ -237,7 +246,7 @@ class CoreModel:
         length ``C``; with ``trace_state`` also ``x`` (C x N, the integrator visible in each cycle)
         and ``phase``, ``sub``, ``full``.
         """
-        names = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy")
+        names = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy", "sync_in")
         unknown = set(stim) - set(names) - {"cycles"}
         if unknown:
             raise ValueError(f"unknown stimulus names {sorted(unknown)}; known: {names}")

@@ -35,6 +35,10 @@ class MdfqmCore(wiring.Component):
     zero_policy : In(1)
         0: the zero state is all-off (the paper). 1: all-off or all-on, whichever needs fewer
         transitions from the previous state. Sampled at each update start.
+    sync_in : In(1)
+        Share update boundaries between instances: high in a cycle in which the update in
+        flight has committed by the next cycle (``phase + 1 >= latency``) makes the next cycle
+        an update start; ignored earlier. Wire another instance's ``start`` here.
     h : Out(phases)
         Gate state, bit i = upper switch of leg i on. Changes only with ``update``.
     update : Out(1)
@@ -72,6 +76,7 @@ class MdfqmCore(wiring.Component):
             "period": In(16),
             "osr": In(8),
             "zero_policy": In(1),
+            "sync_in": In(1),
             "h": Out(phases),
             "update": Out(1),
             "start": Out(1),
@@ -97,6 +102,7 @@ class MdfqmCore(wiring.Component):
             sequencer.period.eq(self.period),
             sequencer.osr.eq(self.osr),
             sequencer.zero_policy.eq(self.zero_policy),
+            sequencer.sync_in.eq(self.sync_in),
             reference.tick.eq(sequencer.tick),
             integrator.i_start.eq(sequencer.start),
             integrator.i_r.eq(reference.r),

@@ -23,6 +23,9 @@ class UpdateSequencer(wiring.Component):
         Requested updates per reference sample (0 is treated as 1); sampled at update starts.
     zero_policy : In(1)
         Zero-state policy request; sampled at update starts.
+    sync_in : In(1)
+        High in a cycle with ``phase + 1 >= latency`` (the update in flight has committed):
+        the next cycle is an update start. Ignored earlier in an update.
     start : Out(1)
         High in the first cycle of each update (combinational from registers).
     tick : Out(1)
@@ -50,6 +53,7 @@ class UpdateSequencer(wiring.Component):
             "period": In(period_width),
             "osr": In(osr_width),
             "zero_policy": In(1),
+            "sync_in": In(1),
             "start": Out(1),
             "tick": Out(1),
             "policy": Out(1),
@@ -70,7 +74,8 @@ class UpdateSequencer(wiring.Component):
             self.start.eq(phase == 0),
             self.tick.eq(self.start & (sub == 0)),
         ]
-        m.d.sync += phase.eq(Mux(phase + 1 >= period_now, 0, phase + 1))
+        restart = self.sync_in & (phase + 1 >= self.latency)
+        m.d.sync += phase.eq(Mux(restart | (phase + 1 >= period_now), 0, phase + 1))
         with m.If(self.start):
             m.d.sync += [
                 period_latched.eq(period_now),
