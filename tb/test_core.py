@@ -1,5 +1,8 @@
 """The whole MDFQM core, every output on every clock, against mdfqm_model.clock.CoreModel."""
 
+# Components built only to be refused or measured are never elaborated, on purpose:
+# amaranth: UnusedElaboratable=no
+
 import math
 
 import cocotb

@@ -1,8 +1,10 @@
 """Weighting-filter integrators: T = X + R at the update start, X <- T - v(h) at the commit."""
 
-from amaranth import Cat, Module, Mux, Signal, signed
+from amaranth import Cat, Module, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
+
+from mdfqm_model.contract import signed_bits
 
 from .params import contract_for
 
@@ -24,9 +26,8 @@ class Integrator(wiring.Component):
         Reference used by the update starting this cycle.
     i_commit : In(1)
         Commit cycle: ``i_h``/``i_count`` hold this update's state.
-    i_h : In(phases)
-    i_count : In(range(phases + 1))
-        ``popcount(i_h)``.
+    i_u : In(ArrayLayout(signed(u_width), phases))
+        Feedback ``U = N FULL v(h)`` of this update's state (valid with ``i_commit``).
     o_t : Out(ArrayLayout(signed(t_width), phases))
         Optimum signal of the current update (registered, valid from the cycle after a start).
     o_x : Out(ArrayLayout(signed(x_width), phases))
@@ -43,8 +44,7 @@ class Integrator(wiring.Component):
             "i_start": In(1),
             "i_r": In(data.ArrayLayout(signed(c.r_width), phases)),
             "i_commit": In(1),
-            "i_h": In(phases),
-            "i_count": In(range(phases + 1)),
+            "i_u": In(data.ArrayLayout(signed(signed_bits(-c.u_bound, c.u_bound)), phases)),
             "o_t": Out(data.ArrayLayout(signed(c.t_width), phases)),
             "o_x": Out(data.ArrayLayout(signed(c.x_width), phases)),
             "o_saturated": Out(1),
@@ -56,14 +56,15 @@ class Integrator(wiring.Component):
         with m.If(self.i_start):
             m.d.sync += [self.o_t[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
 
-        # U_i is FULL (N - k) for a leg that is on and -FULL k for one that is off.
-        u_on = Signal(signed(c.t_width))
-        u_off = Signal(signed(c.t_width))
-        m.d.comb += [u_on.eq(c.full * (n - self.i_count)), u_off.eq(-(c.full * self.i_count))]
+        # X' fits the signed x_width-bit word iff its bits above the word's sign bit are all
+        # copies of it: a few LUTs after the adder instead of two more carry chains.
         candidate = [Signal(signed(c.t_width + 1), name=f"x_next{i}") for i in range(n)]
+        fits_each = []
         for i in range(n):
-            m.d.comb += candidate[i].eq(self.o_t[i] - Mux(self.i_h[i], u_on, u_off))
-        fits = Cat(*[(value >= c.x_min) & (value <= c.x_max) for value in candidate]).all()
+            m.d.comb += candidate[i].eq(self.o_t[i] - self.i_u[i])
+            top = candidate[i][c.x_width - 1:]
+            fits_each.append((top == 0) | (top == (1 << len(top)) - 1))
+        fits = Cat(*fits_each).all()
         with m.If(self.i_commit):
             m.d.sync += self.o_saturated.eq(~fits)
             with m.If(fits):

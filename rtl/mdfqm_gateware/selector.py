@@ -130,11 +130,14 @@ class ArgMax(wiring.Component):
 
 
 class StateDecoder(wiring.Component):
-    """Un-permute the winning staircase column into the gate state, applying the zero policy.
+    """Un-permute the winning staircase column into the gate state, apply the zero policy, and
+    compute the state's feedback ``U = N FULL v(h)``. One clock.
 
     ``h`` has legs ``perm[0..j-1]`` on for ``j > 0``. For the zero class ``j = 0``: all-off, or
     with ``policy = 1`` (fewest transitions) all-on when more than half the legs of ``h_prev`` are
-    on. One clock.
+    on. With ``k`` legs on, ``U_i = FULL (N - k)`` for a leg that is on and ``-FULL k`` for one
+    that is off (the paper's Converter2). Computing ``U`` here keeps the integrator's commit stage
+    to one adder.
 
     Ports
     -----
@@ -149,16 +152,17 @@ class StateDecoder(wiring.Component):
     i_valid : In(1)
     o_h : Out(phases)
         Gate state, bit i = leg i upper switch on.
-    o_count : Out(range(phases + 1))
-        Legs on in ``o_h``.
+    o_u : Out(ArrayLayout(signed(u_width), phases))
+        Feedback of ``o_h`` in the N-scaled domain.
     o_valid : Out(1)
     """
 
     latency = 1
 
-    def __init__(self, phases: int):
-        validate_positive(phases, "phases", minimum=3)
+    def __init__(self, phases: int, width: int):
+        self.contract = contract_for(phases, width)
         self.phases = phases
+        self.u_width = signed_bits(-self.contract.u_bound, self.contract.u_bound)
         super().__init__({
             "i_perm": In(data.ArrayLayout(range(phases), phases)),
             "i_j": In(range(phases)),
@@ -166,13 +170,13 @@ class StateDecoder(wiring.Component):
             "i_h_prev": In(phases),
             "i_valid": In(1),
             "o_h": Out(phases),
-            "o_count": Out(range(phases + 1)),
+            "o_u": Out(data.ArrayLayout(signed(self.u_width), phases)),
             "o_valid": Out(1),
         })
 
     def elaborate(self, platform):
         m = Module()
-        n = self.phases
+        n, full = self.phases, self.contract.full
         legs = []
         for leg in range(n):
             on = Const(0)
@@ -181,10 +185,15 @@ class StateDecoder(wiring.Component):
             legs.append(on)
         prev_on = sum(self.i_h_prev[i] for i in range(n))
         all_on = self.i_policy & (prev_on * 2 > n)
+        h = Signal(n)
+        count = Signal(range(n + 1))
         with m.If(self.i_j == 0):
-            m.d.sync += [self.o_h.eq(Mux(all_on, (1 << n) - 1, 0)),
-                         self.o_count.eq(Mux(all_on, n, 0))]
+            m.d.comb += [h.eq(Mux(all_on, (1 << n) - 1, 0)), count.eq(Mux(all_on, n, 0))]
         with m.Else():
-            m.d.sync += [self.o_h.eq(Cat(*legs)), self.o_count.eq(self.i_j)]
-        m.d.sync += self.o_valid.eq(self.i_valid)
+            m.d.comb += [h.eq(Cat(*legs)), count.eq(self.i_j)]
+        u_on = Signal(signed(self.u_width))
+        u_off = Signal(signed(self.u_width))
+        m.d.comb += [u_on.eq(full * (n - count)), u_off.eq(-(full * count))]
+        m.d.sync += [self.o_u[i].eq(Mux(h[i], u_on, u_off)) for i in range(n)]
+        m.d.sync += [self.o_h.eq(h), self.o_valid.eq(self.i_valid)]
         return m
