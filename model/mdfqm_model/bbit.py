@@ -53,6 +53,7 @@ from .update import (
     _int_vector,
     integrate,
     mdfqm_update,
+    modulate,
     remove_common_mode,
     sort1,
     validate_rule,
@@ -64,6 +65,7 @@ __all__ = [
     "BbitResult",
     "bbit_update",
     "centred_slots",
+    "centred_slots_array",
     "gamma2_for",
     "ideal_svpwm_edges",
     "modulate_bbit",
@@ -171,6 +173,23 @@ def bbit_update(
         res = mdfqm_update(x, r, h_prev, contract, rule, zero_policy)
         on = tuple((res.h >> i) & 1 for i in range(n))
         return BbitResult((res.h,), on, res.x_next, res.saturated, res.t, res.rho, res.perm, (), 2)
+    on, x_next, saturated, t, rho, perm, q, g2 = _gamma_update(x, r, contract, mode, b)
+    return BbitResult(
+        tuple(centred_slots(on, 1 << b)),
+        tuple(on),
+        x_next,
+        saturated,
+        tuple(t),
+        tuple(rho),
+        tuple(perm),
+        tuple(q),
+        g2,
+    )
+
+
+def _gamma_update(x, r, contract: Contract, mode: str, b: int):
+    """The arithmetic of one gamma-mode update (no slot layout)."""
+    n = contract.phases
     xv = _int_vector(x, n, "x")
     rv = _int_vector(r, n, "r")
     if sum(xv) != 0 or sum(rv) != 0:
@@ -187,17 +206,20 @@ def bbit_update(
     total = sum(on)
     u = [scale * (n * on[i] - total) for i in range(n)]
     x_next, saturated = integrate(xv, t, u, contract)
-    return BbitResult(
-        tuple(centred_slots(on, slots)),
-        tuple(on),
-        x_next,
-        saturated,
-        tuple(t),
-        tuple(rho),
-        tuple(perm),
-        tuple(q),
-        g2,
-    )
+    return on, x_next, saturated, t, rho, perm, q, g2
+
+
+def centred_slots_array(on_slots: np.ndarray, slots: int) -> np.ndarray:
+    """Vectorised :func:`centred_slots`: K x N on-slot counts -> (K*S,) gate bitmasks."""
+    on = np.asarray(on_slots, dtype=np.int64)
+    k, n = on.shape
+    pos = np.arange(slots, dtype=np.int64)[None, :]
+    out = np.zeros((k, slots), dtype=np.int64)
+    for i in range(n):
+        start = (slots - on[:, i : i + 1]) // 2
+        bit = (pos >= start) & (pos < start + on[:, i : i + 1])
+        out |= bit.astype(np.int64) << i
+    return out.reshape(-1)
 
 
 def modulate_bbit(
@@ -221,24 +243,23 @@ def modulate_bbit(
     validate_rule(rule)
     validate_zero_policy(zero_policy)
     n = contract.phases
-    slots = 1 << b
+    if mode == "mdfqm":
+        return modulate(a, contract, rule, zero_policy, osr)
     k_total = a.shape[0] * osr
-    hs = np.zeros(k_total * slots, dtype=np.int64)
+    ons = np.zeros((k_total, n), dtype=np.int64)
     xs = np.zeros((k_total, n), dtype=np.int64)
     sat = np.zeros(k_total, dtype=bool)
     x = (0,) * n
-    h = 0
     k = 0
     for row in a.tolist():
         r = remove_common_mode(row, n)
         for _ in range(osr):
-            res = bbit_update(x, r, contract, mode, b, h, rule, zero_policy)
-            hs[k * slots : (k + 1) * slots] = res.slots
-            x, h = res.x_next, res.slots[-1]
+            on, x, saturated, *_ = _gamma_update(x, r, contract, mode, b)
+            ons[k] = on
             xs[k] = x
-            sat[k] = res.saturated
+            sat[k] = saturated
             k += 1
-    return hs, xs, sat
+    return centred_slots_array(ons, 1 << b), xs, sat
 
 
 def ideal_svpwm_edges(refs: np.ndarray) -> np.ndarray:

@@ -190,8 +190,28 @@ def test_sum_zero_and_bound_in_linear_range(n, rule, rng):
         _h, x, sat = modulate(refs, c, rule, policy, osr=int(rng.integers(1, 5)))
         assert (x.sum(axis=1) == 0).all()
         assert not sat.any(), "the anti-windup bound must never be reached in the linear range"
-        # much tighter than the bound: |X_i| within one Vdc
-        assert np.abs(x).max() <= c.unit
+        if rule == "exact_nearest":  # the nearest-state loop keeps |X_i| within one Vdc
+            assert np.abs(x).max() <= c.unit
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="contract finding: with the largest-duty rule and N >= 16, |X| grows past the "
+    "x_width bound (2 Vdc for N = 16) near the edge of the linear range, so the hold fires "
+    "there (exact_nearest stays below 0.9 Vdc); reported to the lead",
+)
+def test_largest_duty_n16_linear_range_never_saturates():
+    c = Contract(16, 16)
+    refs = sine_refs(c, 2000, 0.97 * linear_amplitude(16), 3.0, 0.0, 0.3)
+    _, _, sat = modulate_batch(refs[None], c, "largest_duty", ALL_OFF, 1)
+    assert not sat.any()
+
+
+def test_exact_nearest_n16_linear_range_never_saturates():
+    c = Contract(16, 16)
+    refs = sine_refs(c, 2000, 0.999 * linear_amplitude(16), 3.0, 0.0, 0.3)
+    _, x, sat = modulate_batch(refs[None], c, "exact_nearest", ALL_OFF, 1)
+    assert not sat.any() and np.abs(x).max() <= c.unit
 
 
 @pytest.mark.parametrize("n", [3, 5, 8])
