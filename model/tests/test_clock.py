@@ -294,3 +294,52 @@ def test_validation_messages():
         m.simulate({"rst": np.zeros(3), "ref_valid": np.zeros(4)})
     with pytest.raises(ValueError, match="unknown stimulus"):
         m.simulate({"reff": np.zeros(3)})
+
+
+def test_start_output_marks_update_starts():
+    m = CoreModel(3, 16)
+    out = m.simulate({"cycles": 100, "period": 13}, trace_state=True)
+    assert (out["start"] == (out["phase"] == 0)).all()
+
+
+def test_sync_in_ignored_before_latency_and_restarts_after():
+    L = loop_latency(3)
+    p = 3 * L
+    for hold in range(1, p):  # sync_in high only in the cycle with phase == hold (first update)
+        m = CoreModel(3, 16)
+        sync = np.zeros(3 * p, dtype=int)
+        sync[hold] = 1
+        out = m.simulate({"period": p, "sync_in": sync})
+        starts = list(np.flatnonzero(out["start"]))
+        if hold + 1 >= L:  # the update in flight has committed by the next cycle
+            assert starts[:3] == [0, hold + 1, hold + 1 + p]
+        else:  # ignored: it can never cut an update short
+            assert starts[:3] == [0, p, 2 * p]
+        # every update still sees the previous update's result
+        strobes = list(np.flatnonzero(out["update"]))
+        assert all(s + L in strobes for s in starts if s + L < 3 * p)
+
+
+def test_sync_in_aligns_two_instances():
+    L = loop_latency(3)
+    a, b = CoreModel(3, 16), CoreModel(3, 16)
+    pa, pb = 2 * L + 3, 5 * L  # b's own period is longer: a's start drives it
+    a_starts, b_starts = [], []
+    for cyc in range(40 * pa):
+        oa = a.step(period=pa)
+        ob = b.step(period=pb, sync_in=oa["start"])  # a's start wired to b's sync_in
+        if oa["start"]:
+            a_starts.append(cyc)
+        if ob["start"]:
+            b_starts.append(cyc)
+    # a's first start (cycle 0) falls in b's first cycles and is ignored (phase + 1 < L); from
+    # then on b starts exactly one clock after each start of a
+    assert a_starts[:2] == [0, pa] and b_starts[0] == 0
+    assert b_starts[1:] == [s + 1 for s in a_starts[1:]][: len(b_starts) - 1]
+    assert len(b_starts) >= len(a_starts) - 1
+
+
+def test_sync_in_validation():
+    m = CoreModel(3, 16)
+    with pytest.raises(ValueError, match="sync_in must be 0 or 1"):
+        m.step(sync_in=2)
