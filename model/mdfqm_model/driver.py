@@ -1,0 +1,381 @@
+"""Clock-level model of the gate driver: dead time, minimum pulse, enable, fault, polarity.
+
+This is the specification of :mod:`mdfqm_gateware.driver`; the gateware must produce every bit
+on every clock that :class:`GateDriverModel` predicts. ``step`` returns the outputs visible
+*during* a cycle (a function of the registers only, like :class:`mdfqm_model.clock.CoreModel`),
+then advances the registers with that cycle's inputs. ``rst`` is synchronous.
+
+One leg (:class:`LegModel`)
+---------------------------
+Registers, all in the *active-high* domain (1 = switch on), reset to zero unless noted:
+
+- ``up``, ``lo``: the upper and lower gate of the leg (the outputs, registered).
+- ``cnt``: clocks since ``on = up | lo`` last changed, saturating at ``2**time_width - 1``.
+  While both are off it is the elapsed dead time (0 in the first off cycle), while one is on it
+  is that switch's on-time so far (0 in its first on cycle).
+- ``dt_run`` (**not reset**): the dead time in force when the current off interval began: the
+  clamped dead-time input of the last cycle in which a switch was on. It is kept through a
+  reset, so a reset cannot shorten a dead time that is already running.
+- ``event``: one-clock strobe, high in the cycle in which a switch's turn-on becomes visible.
+
+Inputs: ``cmd`` (1: upper on, 0: lower on), ``drive`` (0: both off now), ``dead`` and
+``min_pulse`` (unsigned ``time_width``-bit clocks). With ``dt = max(dead, dead_min)`` (the floor
+``dead_min`` is fixed at elaboration) and ``dt_req = max(dt_run, dt)``, the next state is:
+
+1. ``drive == 0``: both off (fault and disable override the minimum pulse).
+2. a switch is on and it is the commanded one: keep it.
+3. a switch is on, the other one is commanded: turn it off if ``cnt + 1 >= min_pulse``
+   (it has been on for ``min_pulse`` clocks by the end of this cycle), else keep it: **pulses
+   are stretched to min_pulse, never dropped**. ``min_pulse`` 0 and 1 mean "no minimum".
+4. both off: turn the commanded switch on if ``cnt + 1 >= dt_req`` (both have been off for
+   ``dt_req`` clocks by the end of this cycle), else stay off.
+
+``cnt <= 0`` if ``on`` changes, else ``min(cnt + 1, max)``; ``dt_run <= dt`` while ``on``;
+``event <= not on and next on``.
+
+Consequences (checked by :func:`check_gate_safety` and the tests): ``up & lo`` is never 1; every
+turn-on follows at least ``dt_req`` off clocks (at least the dead time in force when the off
+interval began, and at least the one in force when the turn-on is decided, so raising ``dead``
+lengthens a running dead time at once and lowering it only affects later ones); a commanded
+pulse of ``w`` clocks gives an on-time of ``max(w - dt, min_pulse)`` clocks when ``w > dt``; a
+command that reverts within the dead time turns nothing on (the dead time swallows it, as in any
+dead-time inserter), and the previously-on switch comes back after the dead time.
+
+The N-leg driver (:class:`GateDriverModel`)
+-------------------------------------------
+- Fault synchroniser: two flops (**not reset**, like every synchroniser)
+  ``s1 <= fault_in``, ``fault_input <= s1``.
+- Fault latch ``fault`` (reset 0): ``<= 1`` if ``fault_input``, else ``<= 0`` if ``fault_clear``,
+  else hold. A clear while the synchronised input is still active does nothing.
+  ``fault_active = fault_input | fault``.
+- Command and enable, taken at update boundaries: ``cmd = h if update else cmd_lat``,
+  ``en = enable if update else active``; ``cmd_lat <= cmd``; ``active <= en and not
+  fault_active``. So a fault also clears ``active``: after a clear, outputs resume only at the
+  next update boundary with ``enable`` high.
+- Each leg: ``drive = en and not fault_active``. A synchronised fault visible in cycle ``t``
+  turns every output off in cycle ``t + 1``.
+- Pins: ``upper = up ^ upper_active_low``, ``lower = lo ^ lower_active_low`` (the inversion is
+  applied last, to registers).
+
+Inputs must be in range (``h`` an N-bit mask, bits 0/1, ``dead``/``min_pulse`` unsigned
+``time_width`` bits), otherwise ``ValueError``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+__all__ = [
+    "DRIVER_OUTPUTS",
+    "TIME_WIDTH",
+    "GateDriverModel",
+    "LegModel",
+    "SafetyError",
+    "check_gate_safety",
+    "validate_dead_min",
+    "validate_time_width",
+]
+
+#: width of the dead-time / minimum-pulse inputs and of the leg counters (clocks)
+TIME_WIDTH = 16
+#: per-cycle outputs of :meth:`GateDriverModel.step`
+DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active")
+
+
+def _bit(value, name: str) -> int:
+    if isinstance(value, (bool, np.bool_)):
+        return int(value)
+    if isinstance(value, (int, np.integer)) and value in (0, 1):
+        return int(value)
+    raise ValueError(f"{name} must be 0 or 1, not {value!r}")
+
+
+def _uint(value, bits: int, name: str) -> int:
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, (int, np.integer))
+        or not 0 <= value < (1 << bits)
+    ):
+        raise ValueError(f"{name} must be an unsigned {bits}-bit integer, not {value!r}")
+    return int(value)
+
+
+def validate_time_width(time_width) -> int:
+    """``time_width`` in [2, 32] (bits of the dead-time and minimum-pulse counters)."""
+    if (
+        isinstance(time_width, bool)
+        or not isinstance(time_width, int)
+        or not (2 <= time_width <= 32)
+    ):
+        raise ValueError(f"time_width must be an integer in [2, 32], not {time_width!r}")
+    return time_width
+
+
+def validate_dead_min(dead_min, time_width: int = TIME_WIDTH) -> int:
+    """``dead_min`` in [1, 2**time_width - 1]: the dead-time floor in clocks."""
+    top = (1 << time_width) - 1
+    if isinstance(dead_min, bool) or not isinstance(dead_min, int) or not 1 <= dead_min <= top:
+        raise ValueError(f"dead_min must be an integer in [1, {top}] (clocks), not {dead_min!r}")
+    return dead_min
+
+
+def _validate_bool(value, name: str) -> bool:
+    if not isinstance(value, bool):
+        raise ValueError(f"{name} must be a bool, not {value!r}")
+    return value
+
+
+class LegModel:
+    """One leg: complementary gates with dead time and minimum pulse (see the module docstring)."""
+
+    def __init__(self, dead_min: int, time_width: int = TIME_WIDTH):
+        self.time_width = validate_time_width(time_width)
+        self.dead_min = validate_dead_min(dead_min, time_width)
+        self.top = (1 << time_width) - 1
+        self.dt_run = 0  # not reset: its power-up value
+        self.reset()
+
+    def reset(self) -> None:
+        """The reset state of every resettable register (``dt_run`` keeps its value)."""
+        self.up = 0
+        self.lo = 0
+        self.cnt = 0
+        self.event = 0
+
+    def dead_clamped(self, dead: int) -> int:
+        return max(dead, self.dead_min)
+
+    def next_state(self, cmd: int, drive: int, dead: int, min_pulse: int) -> tuple[int, int]:
+        """``(up, lo)`` of the next cycle, from this cycle's registers and inputs."""
+        on = self.up or self.lo
+        if not drive:
+            return 0, 0
+        want_up, want_lo = int(cmd == 1), int(cmd == 0)
+        if on:
+            if (self.up and want_up) or (self.lo and want_lo):
+                return self.up, self.lo
+            if self.cnt + 1 >= min_pulse:
+                return 0, 0
+            return self.up, self.lo
+        dt_req = max(self.dt_run, self.dead_clamped(dead))
+        if self.cnt + 1 >= dt_req:
+            return want_up, want_lo
+        return 0, 0
+
+    def step(self, rst: int, cmd: int, drive: int, dead: int, min_pulse: int) -> dict:
+        """Outputs of this cycle (``up``, ``lo``, ``event``, active-high), then advance."""
+        out = {"up": self.up, "lo": self.lo, "event": self.event}
+        on = int(self.up or self.lo)
+        n_dt_run = self.dead_clamped(dead) if on else self.dt_run
+        if rst:
+            self.reset()
+        else:
+            n_up, n_lo = self.next_state(cmd, drive, dead, min_pulse)
+            n_on = int(n_up or n_lo)
+            self.cnt = 0 if n_on != on else min(self.cnt + 1, self.top)
+            self.event = int(not on and n_on)
+            self.up, self.lo = n_up, n_lo
+        self.dt_run = n_dt_run
+        return out
+
+
+class GateDriverModel:
+    """N legs, the fault synchroniser and latch, the enable and command latches and polarity.
+
+    ``phases`` N >= 1 legs, ``dead_min`` the dead-time floor in clocks (>= 1), ``time_width``
+    the width of ``dead`` / ``min_pulse``, ``upper_active_low`` / ``lower_active_low`` the pin
+    polarity of each side (elaboration-time, never runtime: see ``docs/top.md``).
+    """
+
+    def __init__(
+        self,
+        phases: int,
+        dead_min: int,
+        time_width: int = TIME_WIDTH,
+        upper_active_low: bool = False,
+        lower_active_low: bool = False,
+    ):
+        if isinstance(phases, bool) or not isinstance(phases, int) or phases < 1:
+            raise ValueError(f"phases must be an integer >= 1, not {phases!r}")
+        self.phases = phases
+        self.time_width = validate_time_width(time_width)
+        self.dead_min = validate_dead_min(dead_min, time_width)
+        self.upper_active_low = _validate_bool(upper_active_low, "upper_active_low")
+        self.lower_active_low = _validate_bool(lower_active_low, "lower_active_low")
+        self.mask = (1 << phases) - 1
+        self.legs = [LegModel(dead_min, time_width) for _ in range(phases)]
+        self.sync1 = 0  # the synchroniser is not reset
+        self.fault_input = 0
+        self.reset()
+
+    def reset(self) -> None:
+        """Reset state of every resettable register."""
+        self.fault = 0
+        self.active = 0
+        self.cmd_lat = 0
+        for leg in self.legs:
+            leg.reset()
+
+    # ------------------------------------------------------------------ views
+    @property
+    def up(self) -> int:
+        """Upper gates, active-high bitmask."""
+        return sum(leg.up << i for i, leg in enumerate(self.legs))
+
+    @property
+    def lo(self) -> int:
+        """Lower gates, active-high bitmask."""
+        return sum(leg.lo << i for i, leg in enumerate(self.legs))
+
+    def outputs(self) -> dict:
+        return {
+            "upper": self.up ^ (self.mask if self.upper_active_low else 0),
+            "lower": self.lo ^ (self.mask if self.lower_active_low else 0),
+            "event": sum(leg.event << i for i, leg in enumerate(self.legs)),
+            "fault": self.fault,
+            "fault_input": self.fault_input,
+            "active": self.active,
+        }
+
+    # ------------------------------------------------------------------ one clock
+    def step(
+        self, rst=0, h=0, update=0, enable=0, dead=0, min_pulse=0, fault_in=0, fault_clear=0
+    ) -> dict:
+        rst = _bit(rst, "rst")
+        h = _uint(h, self.phases, "h")
+        update = _bit(update, "update")
+        enable = _bit(enable, "enable")
+        dead = _uint(dead, self.time_width, "dead")
+        min_pulse = _uint(min_pulse, self.time_width, "min_pulse")
+        fault_in = _bit(fault_in, "fault_in")
+        fault_clear = _bit(fault_clear, "fault_clear")
+        out = self.outputs()
+
+        fault_active = self.fault_input or self.fault
+        cmd = h if update else self.cmd_lat
+        en = enable if update else self.active
+        drive = int(en and not fault_active)
+        for i, leg in enumerate(self.legs):
+            leg.step(rst, (cmd >> i) & 1, drive, dead, min_pulse)
+        if rst:
+            self.reset()
+        else:
+            if self.fault_input:
+                self.fault = 1
+            elif fault_clear:
+                self.fault = 0
+            self.cmd_lat = cmd
+            self.active = drive
+        self.fault_input, self.sync1 = self.sync1, fault_in
+        return out
+
+    def simulate(self, stim: Mapping[str, object]) -> dict:
+        """Run ``C`` cycles; ``stim`` maps :meth:`step`'s input names to arrays or scalars."""
+        names = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear")
+        return _simulate(self.step, names, DRIVER_OUTPUTS, stim)
+
+
+def _simulate(step, names, outputs, stim) -> dict:
+    unknown = set(stim) - set(names) - {"cycles"}
+    if unknown:
+        raise ValueError(f"unknown stimulus names {sorted(unknown)}; known: {names}")
+    cols, lengths = {}, set()
+    for name in names:
+        if name in stim:
+            a = np.asarray(stim[name])
+            if a.ndim == 0:
+                cols[name] = ("scalar", a.item())
+            elif a.ndim == 1:
+                cols[name] = ("array", a.tolist())
+                lengths.add(a.shape[0])
+            else:
+                raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {a.shape}")
+    if len(lengths) > 1:
+        raise ValueError(f"stimulus arrays differ in length: {sorted(lengths)}")
+    if lengths:
+        c = lengths.pop()
+    elif "cycles" in stim:
+        c = int(stim["cycles"])
+    else:
+        raise ValueError("give at least one stimulus array or stim['cycles']")
+    out = {k: np.zeros(c, dtype=np.int64) for k in outputs}
+    for i in range(c):
+        kw = {n: (v[i] if kind == "array" else v) for n, (kind, v) in cols.items()}
+        o = step(**kw)
+        for k in outputs:
+            out[k][i] = o[k]
+    return out
+
+
+# ------------------------------------------------------------------------------ safety checker
+
+
+class SafetyError(AssertionError):
+    """An unsafe gate pattern: both switches of a leg on, a short dead time, a missed fault."""
+
+
+def check_gate_safety(
+    up: Sequence[int],
+    lo: Sequence[int],
+    phases: int,
+    dead: Sequence[int] | None = None,
+    kill: Sequence[int] | None = None,
+    rst: Sequence[int] | None = None,
+    dt_run0: Sequence[int] | None = None,
+) -> int:
+    """Check the absolute safety properties on an active-high gate trace, independently of
+    :class:`LegModel`'s state machine. Raises :class:`SafetyError`, returns the number of
+    turn-ons seen.
+
+    ``up`` / ``lo``: per-cycle N-bit masks (1 = on), cycle 0 being the first cycle after a reset.
+    ``dead``: per-cycle clamped dead time ``max(DEAD, dead_min)``. Properties:
+
+    1. never ``up & lo``;
+    2. a turn-on in cycle ``t`` follows at least ``g`` clocks with both switches of the leg off,
+       ``g >= dead[t0 - 1]`` (the dead time in force in the last on cycle before the off
+       interval, or ``dt_run0`` for an interval that began before cycle 0) and
+       ``g >= dead[t - 1]`` (the one in force when the turn-on was decided); the interval
+       open at cycle 0 counts from cycle 0;
+    3. ``kill[t]`` (e.g. the synchronised fault) high: every gate off in cycle ``t + 1``;
+    4. ``rst[t]`` high: every gate off in cycle ``t + 1``.
+    """
+    up = np.asarray(up, dtype=np.int64)
+    lo = np.asarray(lo, dtype=np.int64)
+    c = len(up)
+    mask = (1 << phases) - 1
+    both = np.flatnonzero(up & lo)
+    if len(both):
+        t = int(both[0])
+        raise SafetyError(f"cycle {t}: both switches on, up={up[t]:#x} lo={lo[t]:#x}")
+    for name, arr in (("kill", kill), ("rst", rst)):
+        if arr is None:
+            continue
+        arr = np.asarray(arr, dtype=np.int64)
+        hits = np.flatnonzero(arr[:-1] & (((up[1:] | lo[1:]) & mask) != 0))
+        if len(hits):
+            t = int(hits[0])
+            raise SafetyError(f"cycle {t + 1}: gates on one clock after {name} (cycle {t})")
+    turn_ons = 0
+    for leg in range(phases):
+        on = ((up >> leg) | (lo >> leg)) & 1
+        gap = 0  # off cycles so far in the current interval
+        need = 0 if dt_run0 is None else int(dt_run0[leg])
+        for t in range(c):
+            if on[t]:
+                if t > 0 and not on[t - 1]:
+                    turn_ons += 1
+                    if dead is not None:
+                        need_now = max(need, int(dead[t - 1]))
+                        if gap < need_now:
+                            raise SafetyError(
+                                f"cycle {t}: leg {leg} turned on after {gap} off clocks, "
+                                f"dead time in force {need_now}"
+                            )
+                gap = 0
+                if dead is not None:
+                    need = int(dead[t])
+            else:
+                gap += 1
+    return turn_ons

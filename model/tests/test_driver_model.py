@@ -1,0 +1,313 @@
+"""Gate-driver model: dead time, minimum pulse, enable at update boundaries, fault, polarity.
+
+Expected timings are derived by hand from the rules in :mod:`mdfqm_model.driver`'s docstring.
+"""
+
+import numpy as np
+import pytest
+
+from mdfqm_model.driver import (
+    GateDriverModel,
+    LegModel,
+    SafetyError,
+    check_gate_safety,
+)
+
+
+def run(model, cycles, **stim):
+    """Simulate and also return the active-high gates (undoing polarity)."""
+    out = model.simulate({"cycles": cycles, **stim})
+    mask = model.mask
+    out["up"] = out["upper"] ^ (mask if model.upper_active_low else 0)
+    out["lo"] = out["lower"] ^ (mask if model.lower_active_low else 0)
+    return out
+
+
+def pulses(stream, value=1):
+    """(start, length) of each run of ``value`` in a 0/1 sequence."""
+    runs, start = [], None
+    for t, v in enumerate([*stream, 1 - value]):
+        if v == value and start is None:
+            start = t
+        elif v != value and start is not None:
+            runs.append((start, t - start))
+            start = None
+    return runs
+
+
+def updates_at(cycles, times, h_values, enable=1):
+    """Stimulus arrays: ``update`` high at ``times`` with ``h`` from ``h_values``."""
+    update = np.zeros(cycles, dtype=np.int64)
+    h = np.zeros(cycles, dtype=np.int64)
+    for t, v in zip(times, h_values, strict=True):
+        update[t] = 1
+        h[t] = v
+    en = np.full(cycles, enable, dtype=np.int64) if np.isscalar(enable) else enable
+    return {"update": update, "h": h, "enable": en}
+
+
+def test_reset_state_all_off_with_polarity():
+    m = GateDriverModel(3, 4, upper_active_low=True)
+    o = m.step()
+    assert o == {"upper": 0b111, "lower": 0, "event": 0, "fault": 0, "fault_input": 0, "active": 0}
+
+
+def test_first_turn_on_waits_the_dead_time_after_reset():
+    m = GateDriverModel(3, 3)
+    out = run(m, 20, dead=3, **updates_at(20, [0], [0b001]))
+    # cnt = 0, 1, 2 in cycles 0..2; decided in cycle 2 -> visible in cycle 3
+    assert list(out["up"][:5]) == [0, 0, 0, 1, 1]
+    assert list(out["lo"][:5]) == [0, 0, 0, 0b110, 0b110]
+    assert list(np.flatnonzero(out["event"])) == [3]
+    assert out["event"][3] == 0b111
+    assert list(out["active"][:3]) == [0, 1, 1]
+
+
+def test_complementary_switching_with_dead_time():
+    m = GateDriverModel(3, 2)
+    cycles = 60
+    stim = updates_at(cycles, [0, 20, 40], [0b001, 0b010, 0b010])
+    out = run(m, cycles, dead=5, **stim)
+    # update at 20 (h 001 -> 010): leg 0 upper off at 21, lower on at 26; leg 1 lower off at 21,
+    # upper on at 26 (5 off clocks 21..25)
+    up, lo = out["up"], out["lo"]
+    assert (up[5:21] == 0b001).all() and (up[21:26] == 0).all() and (up[26:] == 0b010).all()
+    assert (lo[5:21] == 0b110).all() and (lo[21:26] == 0b100).all() and (lo[26:] == 0b101).all()
+    assert out["event"][26] == 0b011 and out["event"][5] == 0b111
+    assert check_gate_safety(up, lo, 3, dead=np.full(cycles, 5)) == 5
+
+
+def test_command_is_taken_only_at_update():
+    m = GateDriverModel(3, 1)
+    cycles = 30
+    stim = updates_at(cycles, [0], [0b111])
+    stim["h"][5:] = 0b000  # h moves without an update strobe: ignored
+    out = run(m, cycles, dead=1, **stim)
+    assert (out["up"][1:] == 0b111).all()
+
+
+def test_enable_and_disable_take_effect_at_update_boundaries():
+    m = GateDriverModel(3, 2)
+    cycles = 80
+    en = np.zeros(cycles, dtype=np.int64)
+    en[5:45] = 1  # raised mid-update, lowered mid-update
+    stim = updates_at(cycles, [0, 20, 40, 60], [0b001] * 4, enable=en)
+    out = run(m, cycles, dead=2, **stim)
+    on = out["up"] | out["lo"]
+    assert not on[:21].any()  # enable taken at the update of cycle 20
+    assert (out["active"][21:61] == 1).all() and not out["active"][61:].any()
+    assert (on[21:61] == 0b111).all()  # off since reset: no dead time left to wait
+    assert not on[61:].any()  # disable taken at 60, off at 61
+
+
+def test_raising_dead_time_lengthens_a_running_one_lowering_does_not_shorten_it():
+    cycles = 60
+    stim = updates_at(cycles, [0, 20], [0b001, 0b000])
+    # raise from 4 to 9 in the middle of the dead time that starts at 21
+    dead = np.full(cycles, 4)
+    dead[23:] = 9
+    out = run(GateDriverModel(3, 1), cycles, dead=dead, **stim)
+    assert pulses(out["lo"] & 1)[-1][0] == 21 + 9
+    # lower from 9 to 2 in the middle of the dead time: the 9 latched at the turn-off holds
+    dead = np.full(cycles, 9)
+    dead[23:] = 2
+    out = run(GateDriverModel(3, 1), cycles, dead=dead, **stim)
+    assert pulses(out["lo"] & 1)[-1][0] == 21 + 9
+    # ... and the next dead time uses the new value
+    stim2 = updates_at(cycles, [0, 20, 40], [0b001, 0b000, 0b001])
+    out = run(GateDriverModel(3, 1), cycles, dead=dead, **stim2)
+    assert pulses(out["up"] & 1)[-1][0] == 41 + 2
+
+
+def test_dead_time_floor():
+    cycles = 40
+    stim = updates_at(cycles, [0, 20], [0b001, 0b000])
+    out = run(GateDriverModel(3, 6), cycles, dead=0, **stim)
+    assert pulses(out["up"] & 1) == [(6, 15)]  # on at 6, off at 21
+    assert pulses(out["lo"] & 1)[-1][0] == 21 + 6
+
+
+@pytest.mark.parametrize("dead", [1, 3, 7])
+@pytest.mark.parametrize("min_pulse", [0, 1, 4, 9])
+@pytest.mark.parametrize("width", [1, 2, 3, 5, 8, 12, 16])
+def test_commanded_pulse_gives_max_of_width_minus_dead_and_min_pulse(dead, min_pulse, width):
+    """The documented behaviour: a commanded upper pulse of ``w`` clocks on a leg whose lower
+    switch is on gives an upper on-time of ``max(w - dead, min_pulse)`` if ``w > dead``
+    (stretched, never dropped) and nothing if ``w <= dead`` (the dead time swallows it)."""
+    leg = LegModel(1)
+    cmd = [0] * 40 + [1] * width + [0] * 60
+    ups = []
+    for c in cmd:
+        ups.append(leg.step(0, c, 1, dead, min_pulse)["up"])
+    runs = pulses(ups)
+    if width <= dead:
+        assert runs == []
+    else:
+        assert runs == [(41 + dead, max(width - dead, min_pulse, 1))]
+
+
+def test_min_pulse_stretch_delays_the_complementary_turn_on():
+    leg = LegModel(2)
+    cmd = [0] * 20 + [1] * 4 + [0] * 30  # upper commanded 4 clocks, dead 2 -> 2 clocks on
+    los, ups = [], []
+    for c in cmd:
+        o = leg.step(0, c, 1, 2, 6)
+        ups.append(o["up"])
+        los.append(o["lo"])
+    assert pulses(ups) == [(23, 6)]  # stretched to 6
+    assert pulses(los)[-1][0] == 23 + 6 + 2  # lower back after the dead time
+    assert check_gate_safety(ups, los, 1, dead=[2] * len(cmd)) == 3
+
+
+def test_fault_turns_off_within_two_clocks_and_latches_until_clear():
+    m = GateDriverModel(3, 2)
+    cycles = 100
+    stim = updates_at(cycles, list(range(0, cycles, 10)), [0b011] * 10)
+    fault_in = np.zeros(cycles, dtype=np.int64)
+    fault_in[30:33] = 1
+    clear = np.zeros(cycles, dtype=np.int64)
+    clear[31] = 1  # input still active (synchronised from 32 to 34): ignored
+    clear[55] = 1
+    out = run(m, cycles, dead=2, fault_in=fault_in, fault_clear=clear, **stim)
+    on = out["up"] | out["lo"]
+    assert list(out["fault_input"][30:36]) == [0, 0, 1, 1, 1, 0]
+    assert on[32] == 0b111
+    assert not on[33:61].any()  # off one clock after sync
+    assert list(out["fault"][32:57]) == [0] + [1] * 23 + [0]  # latched 33..55
+    assert (out["active"][33:61] == 0).all() and out["active"][61] == 1
+    assert (on[61:] == 0b111).all()  # resumes after update 60
+    check_gate_safety(
+        out["up"], out["lo"], 3, dead=np.full(cycles, 2), kill=out["fault_input"] | out["fault"]
+    )
+
+
+def test_fault_synchroniser_and_chatter():
+    m = GateDriverModel(3, 1)
+    cycles = 60
+    fault_in = np.zeros(cycles, dtype=np.int64)
+    fault_in[[10, 12, 13, 20]] = 1
+    out = run(m, cycles, dead=1, fault_in=fault_in, enable=1, update=1, h=0b101)
+    assert list(np.flatnonzero(out["fault_input"])) == [12, 14, 15, 22]
+    assert (out["fault"][13:] == 1).all()
+    assert not (out["up"] | out["lo"])[13:].any()
+
+
+def test_fault_during_dead_time_keeps_everything_off():
+    m = GateDriverModel(3, 5)
+    cycles = 60
+    stim = updates_at(cycles, [0, 20], [0b001, 0b110])
+    fault_in = np.zeros(cycles, dtype=np.int64)
+    fault_in[20] = 1  # synchronised at 22, inside the dead time 21..25
+    out = run(m, cycles, dead=5, fault_in=fault_in, **stim)
+    assert not (out["up"] | out["lo"])[21:].any()
+
+
+def test_reset_keeps_the_running_dead_time():
+    m = GateDriverModel(3, 2)
+    cycles = 60
+    stim = updates_at(cycles, [0, 30], [0b001, 0b001])
+    rst = np.zeros(cycles, dtype=np.int64)
+    dead = np.full(cycles, 12)
+    rst[20] = 1
+    dead[21:] = 2  # the register file resets the dead time to its floor
+    out = run(m, cycles, dead=dead, rst=rst, **stim)
+    on = out["up"] | out["lo"]
+    assert (on[12:21] == 0b111).all() and not on[21:30].any()
+    # cnt restarts at the reset (cycle 21); dt_run = 12 survived: on at 21 + 12
+    assert 21 + int(np.argmax(on[21:] != 0)) == 33  # (2 after a reset that forgot it: 31)
+
+
+def test_polarity_is_a_pure_inversion():
+    rng = np.random.default_rng(5)
+    cycles = 400
+    stim = {
+        "update": rng.integers(0, 2, cycles),
+        "h": rng.integers(0, 8, cycles),
+        "enable": (rng.random(cycles) < 0.9).astype(int),
+        "dead": rng.integers(0, 6, cycles),
+        "min_pulse": rng.integers(0, 5, cycles),
+        "fault_in": (rng.random(cycles) < 0.01).astype(int),
+        "fault_clear": rng.integers(0, 2, cycles),
+    }
+    a = GateDriverModel(3, 2).simulate(stim)
+    b = GateDriverModel(3, 2, upper_active_low=True, lower_active_low=True).simulate(stim)
+    assert (a["upper"] ^ b["upper"] == 7).all() and (a["lower"] ^ b["lower"] == 7).all()
+
+
+@pytest.mark.parametrize("phases", [3, 5])
+def test_random_stimulus_is_always_safe(phases, rng):
+    cycles = 5000
+    m = GateDriverModel(phases, 3, time_width=6)
+    stim = {
+        "rst": (rng.random(cycles) < 0.003).astype(int),
+        "update": (rng.random(cycles) < 0.15).astype(int),
+        "h": rng.integers(0, 1 << phases, cycles),
+        "enable": (rng.random(cycles) < 0.9).astype(int),
+        "dead": rng.choice([0, 1, 2, 3, 7, 63], cycles),
+        "min_pulse": rng.choice([0, 1, 2, 9, 63], cycles),
+        "fault_in": (rng.random(cycles) < 0.005).astype(int),
+        "fault_clear": (rng.random(cycles) < 0.05).astype(int),
+    }
+    out = m.simulate(stim)
+    dead = np.maximum(stim["dead"], 3)
+    turn_ons = check_gate_safety(
+        out["upper"], out["lower"], phases, dead=dead, kill=out["fault_input"], rst=stim["rst"]
+    )
+    assert turn_ons == sum(bin(int(e)).count("1") for e in out["event"])
+    assert turn_ons > 50
+
+
+def test_safety_checker_catches_violations():
+    with pytest.raises(SafetyError, match="both switches on"):
+        check_gate_safety([0, 1], [0, 1], 1)
+    with pytest.raises(SafetyError, match="after 2 off clocks, dead time in force 3"):
+        check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[3, 1, 1, 1, 1])
+    with pytest.raises(SafetyError, match="after 2 off clocks, dead time in force 4"):
+        check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[1, 1, 4, 1, 1])
+    with pytest.raises(SafetyError, match="one clock after kill"):
+        check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0])
+    assert check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[2, 1, 2, 1, 1]) == 1
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"phases": 0, "dead_min": 1}, "phases must be an integer >= 1, not 0"),
+        ({"phases": 3, "dead_min": 0}, "dead_min must be an integer in [1, 65535] (clocks), not 0"),
+        (
+            {"phases": 3, "dead_min": 8, "time_width": 3},
+            "dead_min must be an integer in [1, 7] (clocks), not 8",
+        ),
+        (
+            {"phases": 3, "dead_min": 1, "time_width": 1},
+            "time_width must be an integer in [2, 32], not 1",
+        ),
+        (
+            {"phases": 3, "dead_min": 1, "upper_active_low": 1},
+            "upper_active_low must be a bool, not 1",
+        ),
+        (
+            {"phases": 3, "dead_min": 1, "lower_active_low": "yes"},
+            "lower_active_low must be a bool, not 'yes'",
+        ),
+    ],
+)
+def test_rejects_bad_parameters(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        GateDriverModel(**kwargs)
+    assert str(info.value) == message
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"h": 8}, "h must be an unsigned 3-bit integer, not 8"),
+        ({"dead": 1 << 16}, "dead must be an unsigned 16-bit integer, not 65536"),
+        ({"min_pulse": -1}, "min_pulse must be an unsigned 16-bit integer, not -1"),
+        ({"fault_in": 2}, "fault_in must be 0 or 1, not 2"),
+    ],
+)
+def test_rejects_bad_inputs(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        GateDriverModel(3, 1).step(**kwargs)
+    assert str(info.value) == message

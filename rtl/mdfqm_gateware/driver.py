@@ -1,0 +1,316 @@
+"""Gate driver: complementary outputs with dead time, minimum pulse, enable, fault and polarity.
+
+Every bit on every clock follows :mod:`mdfqm_model.driver` (its docstring is the specification;
+:class:`mdfqm_model.driver.GateDriverModel` predicts it). Safety is by construction, in the
+*active-high* domain (1 = switch on), and each property is stated beside its logic as an
+``Assert`` emitted only when the component is built with ``formal=True`` (so the drop-in Verilog
+is unchanged):
+
+- the two switches of a leg are never both on;
+- every turn-on follows at least the dead time in force of off clocks (``dt_req``: the larger of
+  the clamped dead time of the last on cycle and of the deciding cycle; never below the floor
+  ``dead_min`` fixed at elaboration);
+- a synchronised fault turns every output off on the next clock, and stays latched until a
+  clear while the input is inactive;
+- reset gives all off until an enable is taken at an update boundary.
+
+Polarity inversion is applied last, to registered signals.
+"""
+
+from amaranth import Cat, Module, Mux, ResetSignal, Signal
+from amaranth.hdl import Assert, Cover
+from amaranth.lib import wiring
+from amaranth.lib.cdc import FFSynchronizer
+from amaranth.lib.wiring import In, Out
+
+from mdfqm_model.driver import TIME_WIDTH, validate_dead_min, validate_time_width
+
+__all__ = ["GateDriver", "LegDriver", "validate_bool"]
+
+
+def validate_bool(value, name: str) -> bool:
+    """``value`` if it is a ``bool``, else ``ValueError`` naming ``name``."""
+    if not isinstance(value, bool):
+        raise ValueError(f"{name} must be a bool, not {value!r}")
+    return value
+
+
+class LegDriver(wiring.Component):
+    """One inverter leg: complementary upper/lower gates with dead time and minimum pulse.
+
+    The rules (:class:`mdfqm_model.driver.LegModel`): ``drive`` low turns both off on the next
+    clock; the on switch stays on while it is commanded; a switch that is no longer commanded
+    turns off once it has been on ``min_pulse`` clocks (shorter pulses are stretched); the
+    commanded switch turns on once both have been off ``dt_req`` clocks,
+    ``dt_req = max(dt_run, max(dead, dead_min))``, ``dt_run`` the clamped dead time of the last
+    cycle a switch was on (kept through reset: a dead time already running is never shortened,
+    by a smaller ``dead`` or by a reset).
+
+    Ports
+    -----
+    cmd : In(1)
+        Commanded switch: 1 upper, 0 lower. Read in every cycle.
+    drive : In(1)
+        0: both switches off on the next clock (disable, fault). Read in every cycle.
+    dead : In(time_width)
+        Dead time in clocks; values below ``dead_min`` act as ``dead_min``. Read in every cycle.
+    min_pulse : In(time_width)
+        Minimum on-time in clocks (0 and 1: none). Read in every cycle.
+    upper, lower : Out(1)
+        Gates, active-high, registered (reset 0).
+    event : Out(1)
+        Registered strobe, high in the cycle a turn-on of either switch becomes visible.
+
+    Parameters
+    ----------
+    dead_min : int in [1, 2**time_width - 1]
+        Dead-time floor in clocks, fixed at elaboration.
+    time_width : int in [2, 32]
+        Width of ``dead``, ``min_pulse`` and the leg counter.
+    formal : bool
+        Emit the ``Assert``/``Cover`` statements of the safety properties.
+    """
+
+    def __init__(self, dead_min: int, time_width: int = TIME_WIDTH, formal: bool = False):
+        self.time_width = validate_time_width(time_width)
+        self.dead_min = validate_dead_min(dead_min, time_width)
+        self.formal = validate_bool(formal, "formal")
+        super().__init__({
+            "cmd": In(1),
+            "drive": In(1),
+            "dead": In(time_width),
+            "min_pulse": In(time_width),
+            "upper": Out(1),
+            "lower": Out(1),
+            "event": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        tw, top = self.time_width, (1 << self.time_width) - 1
+        cnt = Signal(tw)
+        dt_run = Signal(tw, reset_less=True)
+        dt = Signal(tw)
+        dt_req = Signal(tw)
+        nxt_up, nxt_lo = Signal(), Signal()
+
+        on = self.upper | self.lower
+        want_up = self.drive & self.cmd
+        want_lo = self.drive & ~self.cmd
+        m.d.comb += [
+            dt.eq(Mux(self.dead < self.dead_min, self.dead_min, self.dead)),
+            dt_req.eq(Mux(dt_run > dt, dt_run, dt)),
+        ]
+        with m.If(~self.drive):
+            m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
+        with m.Elif(on):
+            held = (self.upper & want_up) | (self.lower & want_lo)
+            with m.If(held | (cnt + 1 < self.min_pulse)):
+                m.d.comb += [nxt_up.eq(self.upper), nxt_lo.eq(self.lower)]
+            with m.Else():
+                m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
+        with m.Elif(cnt + 1 >= dt_req):
+            m.d.comb += [nxt_up.eq(want_up), nxt_lo.eq(want_lo)]
+        with m.Else():
+            m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
+
+        nxt_on = nxt_up | nxt_lo
+        m.d.sync += [
+            self.upper.eq(nxt_up),
+            self.lower.eq(nxt_lo),
+            cnt.eq(Mux(nxt_on != on, 0, Mux(cnt == top, top, cnt + 1))),
+            self.event.eq(~on & nxt_on),
+        ]
+        with m.If(on):
+            m.d.sync += dt_run.eq(dt)
+
+        if self.formal:
+            self._properties(m, on, dt)
+        return m
+
+    def _properties(self, m, on, dt):
+        """Safety properties, on ghost registers independent of the leg's own counter."""
+        tw = self.time_width
+        gap = Signal(tw + 1, reset_less=True)       # off clocks before this one (saturating)
+        need = Signal(tw, reset_less=True)          # clamped dead time of the last on cycle
+        dt_prev = Signal(tw, reset_less=True)       # clamped dead time of the previous cycle
+        on_prev = Signal(reset_less=True)
+        drive_prev = Signal(init=1, reset_less=True)
+        cmd_prev = Signal(reset_less=True)
+        rst_prev = Signal(reset_less=True)
+        gap_top = (1 << (tw + 1)) - 1
+        m.d.sync += [
+            gap.eq(Mux(on, 0, Mux(gap == gap_top, gap_top, gap + 1))),
+            dt_prev.eq(dt),
+            on_prev.eq(on),
+            drive_prev.eq(self.drive),
+            cmd_prev.eq(self.cmd),
+            rst_prev.eq(ResetSignal()),
+        ]
+        with m.If(on):
+            m.d.sync += need.eq(dt)
+        turn_on = on & ~on_prev
+        m.d.comb += [
+            Assert(~(self.upper & self.lower), "both switches of a leg on"),
+            Assert(~turn_on | ((gap >= need) & (gap >= dt_prev)),
+                   "turn-on before the dead time in force elapsed"),
+            Assert(~turn_on | (gap >= self.dead_min), "turn-on before the dead-time floor"),
+            Assert(drive_prev | ~on, "a switch on one clock after drive went low"),
+            Assert(~rst_prev | ~on, "a switch on one clock after reset"),
+            Assert(~(self.upper & ~on_prev) | cmd_prev, "upper turned on while not commanded"),
+            Assert(~(self.lower & ~on_prev) | ~cmd_prev, "lower turned on while not commanded"),
+            Assert(self.event == turn_on, "event strobe is not the turn-on"),
+            Cover(turn_on & (gap > self.dead_min)),
+            Cover(self.upper & ~on_prev),
+            Cover(self.lower & ~on_prev),
+        ]
+
+
+class GateDriver(wiring.Component):
+    """N legs, the fault synchroniser and latch, enable and command taken at update boundaries.
+
+    Specification: :class:`mdfqm_model.driver.GateDriverModel`. The command ``h`` and
+    ``enable`` are taken in cycles with ``update`` high (between updates they hold); a
+    synchronised fault turns every output off on the next clock, latches, clears the taken
+    enable, and is cleared by ``fault_clear`` only while the synchronised input is inactive;
+    outputs then resume at the next update boundary with ``enable`` high.
+
+    Ports
+    -----
+    h : In(phases)
+        Gate state from the core, bit i = upper switch of leg i on. Read when ``update``.
+    update : In(1)
+        Update boundary strobe (the core's ``update``).
+    enable : In(1)
+        Requested enable; taken at update boundaries.
+    dead, min_pulse : In(time_width)
+        Dead time (clamped to ``dead_min``) and minimum on-time in clocks; read every cycle.
+    fault_in : In(1)
+        Asynchronous, active-high fault (desaturation / over-current / driver fault); passes a
+        two-flop synchroniser (not reset). A pulse must span a rising clock edge to be seen.
+    fault_clear : In(1)
+        Clears the fault latch in a cycle where the synchronised input is low.
+    upper, lower : Out(phases)
+        Gate pins, registered, after the polarity of each side (``*_active_low``). Reset: every
+        switch off (pin level 1 for an active-low side).
+    event : Out(phases)
+        Registered strobe per leg: a turn-on (either switch) becomes visible this cycle.
+    fault : Out(1)
+        The fault latch (registered).
+    fault_input : Out(1)
+        The synchronised fault input (registered).
+    active : Out(1)
+        The enable taken at the last update boundary and not cleared by a fault (registered).
+    up, lo : Out(phases)
+        The gates in the active-high domain (registered; before polarity).
+
+    Parameters
+    ----------
+    phases : int >= 1
+    dead_min, time_width, formal
+        As :class:`LegDriver`.
+    upper_active_low, lower_active_low : bool
+        Pin polarity of each side, fixed at elaboration so that the reset level is safe.
+    """
+
+    def __init__(self, phases: int, dead_min: int, time_width: int = TIME_WIDTH,
+                 upper_active_low: bool = False, lower_active_low: bool = False,
+                 formal: bool = False):
+        if isinstance(phases, bool) or not isinstance(phases, int) or phases < 1:
+            raise ValueError(f"phases must be an integer >= 1, not {phases!r}")
+        self.phases = phases
+        self.time_width = validate_time_width(time_width)
+        self.dead_min = validate_dead_min(dead_min, time_width)
+        self.upper_active_low = validate_bool(upper_active_low, "upper_active_low")
+        self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")
+        self.formal = validate_bool(formal, "formal")
+        super().__init__({
+            "h": In(phases),
+            "update": In(1),
+            "enable": In(1),
+            "dead": In(time_width),
+            "min_pulse": In(time_width),
+            "fault_in": In(1),
+            "fault_clear": In(1),
+            "upper": Out(phases),
+            "lower": Out(phases),
+            "event": Out(phases),
+            "fault": Out(1),
+            "fault_input": Out(1),
+            "active": Out(1),
+            "up": Out(phases),
+            "lo": Out(phases),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        n = self.phases
+        m.submodules.fault_sync = FFSynchronizer(self.fault_in, self.fault_input, stages=2)
+
+        # Fault latch: set dominates clear; a clear counts only while the input is inactive.
+        with m.If(self.fault_input):
+            m.d.sync += self.fault.eq(1)
+        with m.Elif(self.fault_clear):
+            m.d.sync += self.fault.eq(0)
+        fault_active = self.fault_input | self.fault
+
+        # Command and enable, taken at update boundaries; a fault clears the taken enable.
+        cmd_lat = Signal(n)
+        cmd = Signal(n)
+        drive = Signal()
+        m.d.comb += [
+            cmd.eq(Mux(self.update, self.h, cmd_lat)),
+            drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active),
+        ]
+        m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
+
+        legs = []
+        for i in range(n):
+            leg = LegDriver(self.dead_min, self.time_width, formal=self.formal)
+            m.submodules[f"leg{i}"] = leg
+            legs.append(leg)
+            m.d.comb += [
+                leg.cmd.eq(cmd[i]),
+                leg.drive.eq(drive),
+                leg.dead.eq(self.dead),
+                leg.min_pulse.eq(self.min_pulse),
+            ]
+        up = Cat(leg.upper for leg in legs)
+        lo = Cat(leg.lower for leg in legs)
+        ones = (1 << n) - 1
+        m.d.comb += [
+            self.up.eq(up),
+            self.lo.eq(lo),
+            self.event.eq(Cat(leg.event for leg in legs)),
+            # polarity last, on registers: an inverter after a flop cannot glitch
+            self.upper.eq(up ^ (ones if self.upper_active_low else 0)),
+            self.lower.eq(lo ^ (ones if self.lower_active_low else 0)),
+        ]
+
+        if self.formal:
+            self._properties(m, up, lo)
+        return m
+
+    def _properties(self, m, up, lo):
+        input_prev = Signal(reset_less=True)
+        fault_prev = Signal(reset_less=True)
+        clear_prev = Signal(reset_less=True)
+        rst_prev = Signal(reset_less=True)
+        m.d.sync += [
+            input_prev.eq(self.fault_input),
+            fault_prev.eq(self.fault),
+            clear_prev.eq(self.fault_clear),
+            rst_prev.eq(ResetSignal()),
+        ]
+        all_off = (up == 0) & (lo == 0)
+        m.d.comb += [
+            Assert(~input_prev | all_off, "gates on one clock after the synchronised fault"),
+            Assert(~(self.fault & fault_prev) | all_off, "gates on while the fault is latched"),
+            Assert(~input_prev | rst_prev | self.fault, "synchronised fault not latched"),
+            Assert(~fault_prev | rst_prev | self.fault | (clear_prev & ~input_prev),
+                   "fault latch cleared without a clear while the input was inactive"),
+            Assert(~rst_prev | (~self.active & all_off), "not all off after reset"),
+            Assert((up & lo) == 0, "both switches of a leg on"),
+            Cover(fault_prev & ~self.fault),
+            Cover(self.fault_input & (up != 0)),
+        ]
