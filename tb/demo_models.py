@@ -91,3 +91,86 @@ class UartRxModel:
         elif ready:
             self.valid = 0
         return out
+
+
+class BridgeModel:
+    """:class:`mdfqm_gateware.demo.bridge.UartBridge`:
+    ``step(rx_valid, rx_payload, tx_ready, ack, dat_r)``."""
+
+    W, R, E, T = ord("W"), ord("R"), ord("E"), ord("T")
+
+    def __init__(self, addr_width=16, bus_timeout=64, frame_timeout=30_000):
+        self.addr_mask = (1 << addr_width) - 1
+        self.bus_timeout, self.frame_timeout = bus_timeout, frame_timeout
+        self.state = "RECEIVE"
+        self.cmd = self.addr = self.data = self.status = 0
+        self.count = self.total = self.timer = self.index = 0
+        self.cyc = self.we = self.adr = self.dat_w = 0
+        self.checksum_error = self.bus_timeout_error = 0
+
+    def reply_byte(self) -> int:
+        fields = [self.status, self.addr >> 8, self.addr & 0xFF, *self.data.to_bytes(4, "big"),
+                  -self.total & 0xFF]
+        return fields[self.index]
+
+    def outputs(self) -> dict:
+        replying = self.state == "REPLY"
+        return {"rx_ready": int(self.state == "RECEIVE"), "tx_valid": int(replying),
+                "tx_payload": self.reply_byte() if replying else 0,
+                "cyc": self.cyc, "stb": self.cyc, "we": self.we, "adr": self.adr,
+                "dat_w": self.dat_w, "sel": 0b1111, "checksum_error": self.checksum_error,
+                "bus_timeout_error": self.bus_timeout_error}
+
+    def step(self, rx_valid=0, rx_payload=0, tx_ready=0, ack=0, dat_r=0) -> dict:
+        out = self.outputs()
+        self.checksum_error = self.bus_timeout_error = 0
+        if self.state == "RECEIVE":
+            if rx_valid:
+                byte = rx_payload
+                self.timer = 0
+                last = 7 if self.cmd == self.W else 3
+                if self.count == 0:
+                    if byte in (self.W, self.R):
+                        self.cmd, self.total, self.data, self.count = byte, byte, 0, 1
+                elif self.count == last:
+                    self.count = 0
+                    if (self.total + byte) & 0xFF == 0:
+                        self.cyc, self.we = 1, int(self.cmd == self.W)
+                        self.adr, self.dat_w = self.addr & self.addr_mask, self.data
+                        self.state = "BUS"
+                    else:
+                        self.status, self.total, self.index = self.E, 0, 0
+                        self.checksum_error = 1
+                        self.state = "REPLY"
+                    return out
+                elif self.count < 3:
+                    self.total = (self.total + byte) & 0xFF
+                    self.addr = ((self.addr << 8) | byte) & 0xFFFF
+                    self.count += 1
+                else:
+                    self.total = (self.total + byte) & 0xFF
+                    self.data = ((self.data << 8) | byte) & 0xFFFFFFFF
+                    self.count += 1
+            elif self.count:
+                if self.timer == self.frame_timeout - 1:
+                    self.count = self.timer = 0
+                else:
+                    self.timer += 1
+        elif self.state == "BUS":
+            if ack or self.timer == self.bus_timeout - 1:
+                self.cyc, self.timer, self.total, self.index = 0, 0, 0, 0
+                self.state = "REPLY"
+                if ack:
+                    self.status = self.cmd
+                    if self.cmd == self.R:
+                        self.data = dat_r
+                else:
+                    self.status, self.data, self.bus_timeout_error = self.T, 0, 1
+            else:
+                self.timer += 1
+        elif tx_ready:                              # REPLY
+            self.total = (self.total + out["tx_payload"]) & 0xFF
+            self.index += 1
+            if self.index == 8:
+                self.index, self.total, self.timer, self.state = 0, 0, 0, "RECEIVE"
+        return out

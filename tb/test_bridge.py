@@ -1,0 +1,170 @@
+"""UART -> Wishbone bridge on its byte streams, every output on every clock, against
+tb/demo_models.py: BridgeModel, with a Wishbone slave with random wait states and an unmapped
+range, and a host that follows (and breaks) mdfqm_gateware.host.protocol."""
+
+# Components built only to be refused are never elaborated, on purpose:
+# amaranth: UnusedElaboratable=no
+
+import cocotb
+import pytest
+from demo_models import BridgeModel
+
+from harness import check_cycles, params, run_block, seeded_rng, start
+from mdfqm_gateware.demo.bridge import UartBridge
+from mdfqm_gateware.host import protocol as proto
+
+CASES = [(16, 5, 40), (16, 64, 300), (8, 3, 25)]
+OUTPUTS = {"rx__ready": "rx_ready", "tx__valid": "tx_valid", "tx__payload": "tx_payload",
+           "bus__cyc": "cyc", "bus__stb": "stb", "bus__we": "we", "bus__adr": "adr",
+           "bus__dat_w": "dat_w", "bus__sel": "sel", "checksum_error": "checksum_error",
+           "bus_timeout_error": "bus_timeout_error"}
+MAPPED_BELOW = 0x60    # the test slave answers word addresses below this (after aliasing)
+
+
+class Slave:
+    """Wishbone-classic slave: ``ack`` after 0..3 wait states (fewer than the bridge's timeout)
+    for mapped addresses, never for
+    the others; ``dat_r`` is random except in the ``ack`` clock."""
+
+    def __init__(self, rng, bus_timeout):
+        self.rng, self.mem, self.wait = rng, {}, None
+        self.waits = [0, 0, 1, min(3, bus_timeout - 1)]   # always inside the bridge's timeout
+
+    def respond(self, out):
+        """``(ack, dat_r)`` for this clock, given the master's outputs of this clock."""
+        if not (out["cyc"] and out["stb"]):
+            self.wait = None
+            return 0, self.rng.getrandbits(32)
+        if out["adr"] >= MAPPED_BELOW:
+            return 0, self.rng.getrandbits(32)
+        if self.wait is None:
+            self.wait = self.rng.choice(self.waits)
+        if self.wait:
+            self.wait -= 1
+            return 0, self.rng.getrandbits(32)
+        self.wait = None
+        if out["we"]:
+            self.mem[out["adr"]] = out["dat_w"]
+            return 1, self.rng.getrandbits(32)
+        return 1, self.mem.get(out["adr"], 0)
+
+
+def requests(rng, count, addr_mask):
+    """(bytes to send, what the reply must be, silence after) per request."""
+    mem, plan = {}, []
+    for _ in range(count):
+        kind = rng.random()
+        addr = rng.choice([rng.randrange(MAPPED_BELOW)] * 3 + [rng.randrange(1 << 16)])
+        word = addr & addr_mask
+        mapped = word < MAPPED_BELOW
+        if kind < 0.35:
+            data = rng.getrandbits(32)
+            frame = proto.encode_write(addr, data)
+            if mapped:
+                mem[word] = data
+            want = (proto.CMD_WRITE, addr, data) if mapped else (proto.STATUS_BUS_TIMEOUT, addr, 0)
+        elif kind < 0.7:
+            frame = proto.encode_read(addr)
+            want = ((proto.CMD_READ, addr, mem.get(word, 0)) if mapped
+                    else (proto.STATUS_BUS_TIMEOUT, addr, 0))
+        elif kind < 0.8:                                   # corrupted checksum
+            good = bytearray(rng.choice([proto.encode_write(addr, rng.getrandbits(32)),
+                                         proto.encode_read(addr)]))
+            good[-1] ^= 1 << rng.randrange(8)
+            frame = bytes(good)
+            data = int.from_bytes(frame[3:7], "big") if frame[0] == proto.CMD_WRITE else 0
+            want = (proto.STATUS_BAD_CHECKSUM, addr, data)
+        elif kind < 0.9:                                   # garbage, then a good read
+            garbage = bytes(rng.choice([0, 0x41, 0xFF, 0x0D]) for _ in range(rng.randint(1, 4)))
+            frame = garbage + proto.encode_read(addr)
+            want = ((proto.CMD_READ, addr, mem.get(word, 0)) if mapped
+                    else (proto.STATUS_BUS_TIMEOUT, addr, 0))
+        else:                                              # truncated frame: no reply, silence
+            full = proto.encode_write(addr, rng.getrandbits(32))
+            frame = full[:rng.randint(1, len(full) - 1)]
+            want = None
+        plan.append((frame, want))
+    return plan
+
+
+def generate(rng, count, addr_width, bus_timeout, frame_timeout):
+    model = BridgeModel(addr_width, bus_timeout, frame_timeout)
+    slave = Slave(rng, bus_timeout)
+    plan = requests(rng, count, (1 << addr_width) - 1)
+    stim = {"rx__valid": [], "rx__payload": [], "tx__ready": [], "bus__ack": [],
+            "bus__dat_r": []}
+    expected = {port: [] for port in OUTPUTS}
+    replies, got = [], bytearray()
+    pending, waiting, silence, gap = b"", None, 0, 0
+    item = 0
+    while item < len(plan) or pending or waiting is not None or silence:
+        if not pending and waiting is None and not silence and item < len(plan):
+            pending, want = plan[item]
+            item += 1
+            waiting = want if want is not None else None
+            silence = frame_timeout + 2 if want is None else 0
+        out = model.outputs()
+        valid = int(bool(pending) and gap == 0)
+        payload = pending[0] if valid else rng.randrange(256)
+        tx_ready = int(rng.random() < 0.7)
+        ack, dat_r = slave.respond(out)
+        model.step(rx_valid=valid, rx_payload=payload, tx_ready=tx_ready, ack=ack, dat_r=dat_r)
+        for name, value in (("rx__valid", valid), ("rx__payload", payload),
+                            ("tx__ready", tx_ready), ("bus__ack", ack), ("bus__dat_r", dat_r)):
+            stim[name].append(value)
+        for port, key in OUTPUTS.items():
+            expected[port].append(out[key])
+        if valid and out["rx_ready"]:
+            pending = pending[1:]
+            gap = rng.choice([0, 0, 0, 1, 4])
+        else:
+            gap = max(0, gap - 1)
+        if not pending and waiting is None and silence:
+            silence -= 1
+        if out["tx_valid"] and tx_ready:
+            got.append(out["tx_payload"])
+            if len(got) == proto.REPLY_LENGTH:
+                reply = proto.decode_reply(bytes(got))
+                assert (reply.status, reply.addr, reply.data) == waiting, \
+                    f"model reply {reply} for request {plan[item - 1][0].hex(' ')}, " \
+                    f"protocol says {waiting}"
+                replies.append(reply)
+                got.clear()
+                waiting = None
+    return stim, expected, replies
+
+
+async def run(dut, name, count):
+    p = params()
+    rng = seeded_rng(dut, name)
+    stim, expected, replies = generate(rng, count, p["addr_width"], p["bus_timeout"],
+                                       p["frame_timeout"])
+    await start(dut)
+    checked = await check_cycles(dut, stim, expected)
+    kinds = {chr(s): sum(r.status == s for r in replies) for s in proto.STATUSES}
+    dut._log.info("%s: %d cycles, replies %s, every output equal to the model", name, checked,
+                  kinds)
+
+
+@cocotb.test()
+async def bridge_requests(dut):
+    """Reads, writes, bad checksums, garbage, truncated frames, unmapped addresses."""
+    await run(dut, "bridge_requests", 160)
+
+
+@pytest.mark.parametrize(("addr_width", "bus_timeout", "frame_timeout"), CASES)
+def test_bridge(addr_width, bus_timeout, frame_timeout):
+    run_block(lambda: UartBridge(addr_width, bus_timeout, frame_timeout), "uart_bridge",
+              "test_bridge", {"addr_width": addr_width, "bus_timeout": bus_timeout,
+                              "frame_timeout": frame_timeout})
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"addr_width": 17}, "addr_width must be an integer in [1, 16], not 17"),
+    ({"bus_timeout": 0}, "bus_timeout must be an integer in [1, 65536], not 0"),
+    ({"frame_timeout": 1}, "frame_timeout must be an integer in [2, 16777216], not 1"),
+])
+def test_bridge_rejects_bad_parameters(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        UartBridge(**kwargs)
+    assert str(info.value) == message
