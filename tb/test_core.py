@@ -1,7 +1,7 @@
+# amaranth: UnusedElaboratable=no
 """The whole MDFQM core, every output on every clock, against mdfqm_model.clock.CoreModel."""
 
-# Components built only to be refused or measured are never elaborated, on purpose:
-# amaranth: UnusedElaboratable=no
+# (line 1: components built only to be refused or measured are never elaborated, on purpose)
 
 import math
 
@@ -162,6 +162,9 @@ def test_core_latency_is_the_contract():
     ({"phases": 9, "width": 9},
      "width must be an integer in [10, 32] for 9 phases (FULL = 2**(width-2) >= 16 * phases), "
      "not 9"),
+    ({"phases": 16, "width": 16},
+     "rule 'largest_duty' is offered for at most 12 phases (its integrators outgrow their bound "
+     "beyond); use 'exact_nearest' for 16 phases"),
     ({"rule": "nearest"},
      "rule must be one of ('largest_duty', 'exact_nearest'), not 'nearest'"),
 ])

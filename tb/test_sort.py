@@ -1,7 +1,7 @@
+# amaranth: UnusedElaboratable=no
 """sort1, the N-input sorting network, against the model's stable descending sort."""
 
-# Components built only to be refused or measured are never elaborated, on purpose:
-# amaranth: UnusedElaboratable=no
+# (line 1: components built only to be refused or measured are never elaborated, on purpose)
 
 import cocotb
 import pytest

@@ -25,6 +25,9 @@ Internal integer domain (everything scaled by N)
 
 Integrator bound (anti-windup)
 ------------------------------
+(With ``largest_duty`` this holds up to LARGEST_DUTY_MAX_PHASES = 12 phases, which is why that
+rule is refused beyond; ``exact_nearest`` keeps ``|X_i| <= 1 Vdc`` for every N tested, 3..32.)
+
 ``X_i`` must fit in a signed ``x_width = W + ceil(log2 N)`` bit word, i.e.
 ``-2**(x_width-1) <= X_i < 2**(x_width-1)``; ``2**(x_width-1) >= 2 N FULL`` (>= 2 Vdc).
 If any component of ``X' = T - U`` falls outside, the update is *saturated*: the integrator
@@ -60,10 +63,16 @@ all-on when ``2 popcount(h_prev) > N`` and all-off otherwise (ties go to all-off
 Clock-level timing of the core (see :mod:`mdfqm_model.clock`)
 --------------------------------------------------------------
 All registers reset synchronously to zero. ``L = loop_latency(N, rule)`` clocks.
-- Update sequencer: a counter ``phase``; a cycle with ``phase == 0`` is an *update start*.
-  At an update start the runtime inputs are latched: ``P = max(period, L)`` (``period_clamped``
-  = ``period < L``, registered), ``osr = max(osr, 1)``, ``zero_policy``. Next ``phase`` is 0 if
-  ``phase + 1 >= P`` (P being the value latched at the start of this update) else ``phase + 1``.
+- Update sequencer: a counter ``phase``; a cycle with ``phase == 0`` is an *update start*
+  (output ``start``). At an update start the runtime inputs *of that cycle* are latched:
+  ``P = max(period, L)`` (``period_clamped`` = ``period < L``, registered), ``osr = max(osr, 1)``
+  (used for the ``sub`` step of that same cycle), ``zero_policy`` (used by that update).
+  Next ``phase`` is 0 if ``phase + 1 >= P`` (P being the value latched at the start of this
+  update) else ``phase + 1``.
+- Sync: ``sync_in`` high in a cycle with ``phase + 1 >= L`` (the update in flight is committed
+  by the next cycle) makes the next cycle an update start; earlier in an update it is ignored,
+  so an update is never cut short. Wire one instance's ``start`` to the others' ``sync_in``:
+  they start one clock after it.
 - Sampling switch: a counter ``sub`` of updates; an update start with ``sub == 0`` is a
   *sampling tick* (``sample`` output high that cycle). At each update start
   ``sub <- 0 if sub + 1 >= osr else sub + 1``.
@@ -151,7 +160,7 @@ ARGMAX_GROUP = 4
 
 
 def argmax_stages(candidates: int) -> int:
-    """Pipeline stages of the max-tournament over ``candidates`` values, ``ARGMAX_GROUP`` a stage."""
+    """Pipeline stages of the max-tournament over ``candidates`` values, ARGMAX_GROUP a stage."""
     stages, remaining = 0, candidates
     while remaining > 1:
         remaining = -(-remaining // ARGMAX_GROUP)
@@ -159,14 +168,30 @@ def argmax_stages(candidates: int) -> int:
     return stages
 
 
+#: Most phases the largest-duty rule is offered for. It is not the nearest state for N > 3, and
+#: for N >= 16 its integrators grow past the bound inside the linear range (measured in the
+#: model's tests); up to 12 phases they stay below 2.01 Vdc against a bound of >= 2.67 Vdc.
+LARGEST_DUTY_MAX_PHASES = 12
+
+
+def check_rule(phases: int, rule: str) -> str:
+    """Refuse an unknown rule, or the largest-duty rule beyond LARGEST_DUTY_MAX_PHASES."""
+    if rule not in RULES:
+        raise ValueError(f"rule must be one of {RULES}, not {rule!r}")
+    if rule == "largest_duty" and phases > LARGEST_DUTY_MAX_PHASES:
+        raise ValueError(
+            f"rule 'largest_duty' is offered for at most {LARGEST_DUTY_MAX_PHASES} phases (its "
+            f"integrators outgrow their bound beyond); use 'exact_nearest' for {phases} phases")
+    return rule
+
+
 def loop_latency(phases: int, rule: str = "largest_duty") -> int:
     """Clocks from an update start to its result: the minimum update period ``L``.
 
     1 (T = X + R) + depth(sort1) + 1 (duties or scores) + argmax stages + 1 (decode h)
-    + 1 (feedback and integrator commit).
+    + 1 (feedback and integrator commit). Refuses what :func:`check_rule` refuses.
     """
-    if rule not in RULES:
-        raise ValueError(f"rule must be one of {RULES}, not {rule!r}")
+    check_rule(phases, rule)
     return 1 + len(sorting_network(phases)) + 1 + argmax_stages(phases) + 1 + 1
 
 

@@ -5,7 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
-from mdfqm_model.contract import ALL_OFF, FEWEST_TRANSITIONS, Contract
+from mdfqm_model.contract import ALL_OFF, FEWEST_TRANSITIONS, Contract, loop_latency
 from mdfqm_model.update import (
     candidates,
     decode,
@@ -194,15 +194,21 @@ def test_sum_zero_and_bound_in_linear_range(n, rule, rng):
             assert np.abs(x).max() <= c.unit
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="contract finding: with the largest-duty rule and N >= 16, |X| grows past the "
-    "x_width bound (2 Vdc for N = 16) near the edge of the linear range, so the hold fires "
-    "there (exact_nearest stays below 0.9 Vdc); reported to the lead",
-)
-def test_largest_duty_n16_linear_range_never_saturates():
+def test_largest_duty_n16_outgrows_the_bound_so_the_contract_refuses_it():
+    """The finding behind contract.LARGEST_DUTY_MAX_PHASES: at N = 16 the largest-duty loop
+    saturates inside the linear range, so the rule is refused there."""
     c = Contract(16, 16)
     refs = sine_refs(c, 2000, 0.97 * linear_amplitude(16), 3.0, 0.0, 0.3)
+    _, _, sat = modulate_batch(refs[None], c, "largest_duty", ALL_OFF, 1)
+    assert sat.any()
+    with pytest.raises(ValueError, match="use 'exact_nearest' for 16 phases"):
+        loop_latency(16, "largest_duty")
+    loop_latency(12, "largest_duty")
+
+
+def test_largest_duty_n12_linear_range_never_saturates():
+    c = Contract(12, 16)
+    refs = sine_refs(c, 2000, 0.999 * linear_amplitude(12), 3.0, 0.0, 0.3)
     _, _, sat = modulate_batch(refs[None], c, "largest_duty", ALL_OFF, 1)
     assert not sat.any()
 

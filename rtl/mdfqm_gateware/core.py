@@ -94,7 +94,7 @@ class MdfqmCore(wiring.Component):
         m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width)
         m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
         m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width))
-        m.submodules.decoder = decoder = StateDecoder(n, self.width)
+        m.submodules.decoder = decoder = StateDecoder(n)
         validate_positive(self.latency, "latency", minimum=1 + sort1.latency + 3)
 
         connect(m, wiring.flipped(self.ref), reference.ref)
@@ -118,7 +118,7 @@ class MdfqmCore(wiring.Component):
             decoder.i_h_prev.eq(self.h),
             decoder.i_valid.eq(sort2.o_valid),
             integrator.i_commit.eq(decoder.o_valid),
-            integrator.i_u.eq(decoder.o_u),
+            integrator.i_units.eq(decoder.o_units),
             self.start.eq(sequencer.start),
             self.sample.eq(sequencer.tick),
             self.saturated.eq(integrator.o_saturated),

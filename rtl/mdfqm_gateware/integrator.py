@@ -1,6 +1,6 @@
 """Weighting-filter integrators: T = X + R at the update start, X <- T - v(h) at the commit."""
 
-from amaranth import Cat, Module, Signal, signed
+from amaranth import Cat, Module, Mux, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -26,12 +26,13 @@ class Integrator(wiring.Component):
         Reference used by the update starting this cycle.
     i_commit : In(1)
         Commit cycle: ``i_h``/``i_count`` hold this update's state.
-    i_u : In(ArrayLayout(signed(u_width), phases))
-        Feedback ``U = N FULL v(h)`` of this update's state (valid with ``i_commit``).
+    i_units : In(ArrayLayout(signed(units_width), phases))
+        Feedback of this update's state in units of ``FULL``: ``U_i / FULL = N h_i - k``
+        (valid with ``i_commit``).
     o_t : Out(ArrayLayout(signed(t_width), phases))
         Optimum signal of the current update (registered, valid from the cycle after a start).
     o_x : Out(ArrayLayout(signed(x_width), phases))
-        Integrator state (registered).
+        Integrator state (a select between two registers by ``o_saturated``).
     o_saturated : Out(1)
         Registered at each commit: that update was held by the bound.
     """
@@ -44,7 +45,8 @@ class Integrator(wiring.Component):
             "i_start": In(1),
             "i_r": In(data.ArrayLayout(signed(c.r_width), phases)),
             "i_commit": In(1),
-            "i_u": In(data.ArrayLayout(signed(signed_bits(-c.u_bound, c.u_bound)), phases)),
+            "i_units": In(data.ArrayLayout(signed(signed_bits(-(phases - 1), phases - 1)),
+                                           phases)),
             "o_t": Out(data.ArrayLayout(signed(c.t_width), phases)),
             "o_x": Out(data.ArrayLayout(signed(c.x_width), phases)),
             "o_saturated": Out(1),
@@ -53,20 +55,28 @@ class Integrator(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         n, c = self.phases, self.contract
+        # The commit writes the new value unconditionally (x_written) and keeps the value it
+        # replaces (x_kept); o_saturated then selects which one is the integrator. The bound
+        # check thus ends at one flip-flop instead of steering the enables of every bit, and the
+        # select sits beside the reference's own select in front of the T adder.
+        x_written = Signal(data.ArrayLayout(signed(c.x_width), n))
+        x_kept = Signal(data.ArrayLayout(signed(c.x_width), n))
+        m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
         with m.If(self.i_start):
             m.d.sync += [self.o_t[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
 
-        # X' fits the signed x_width-bit word iff its bits above the word's sign bit are all
-        # copies of it: a few LUTs after the adder instead of two more carry chains.
-        candidate = [Signal(signed(c.t_width + 1), name=f"x_next{i}") for i in range(n)]
+        # U is a multiple of FULL = 2**shift, so X' = T - U keeps T's low bits and only the bits
+        # above them go through an adder. X' fits the signed x_width-bit word iff its bits above
+        # the word's sign bit are all copies of it: a few LUTs instead of two compare chains.
+        shift = c.width - 2
         fits_each = []
         for i in range(n):
-            m.d.comb += candidate[i].eq(self.o_t[i] - self.i_u[i])
-            top = candidate[i][c.x_width - 1:]
+            high = Signal(signed(c.t_width + 1 - shift), name=f"x_next{i}_high")
+            m.d.comb += high.eq(self.o_t[i][shift:].as_signed() - self.i_units[i])
+            top = high[c.x_width - 1 - shift:]
             fits_each.append((top == 0) | (top == (1 << len(top)) - 1))
-        fits = Cat(*fits_each).all()
+            with m.If(self.i_commit):
+                m.d.sync += x_written[i].eq(Cat(self.o_t[i][:shift], high))
         with m.If(self.i_commit):
-            m.d.sync += self.o_saturated.eq(~fits)
-            with m.If(fits):
-                m.d.sync += [self.o_x[i].eq(candidate[i]) for i in range(n)]
+            m.d.sync += [x_kept.eq(self.o_x), self.o_saturated.eq(~Cat(*fits_each).all())]
         return m

@@ -7,6 +7,7 @@ from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import ARGMAX_GROUP, argmax_stages, signed_bits
 
+from .arith import greater, greater_equal
 from .params import contract_for, validate_positive, validate_rule
 from .sort import validate_width
 
@@ -116,9 +117,9 @@ class ArgMax(wiring.Component):
                     wins = Const(1)
                     for j, (v_j, _) in enumerate(group):
                         if j < i:
-                            wins = wins & (v_i > v_j)
+                            wins = wins & greater(v_i, v_j)
                         elif j > i:
-                            wins = wins & (v_i >= v_j)
+                            wins = wins & greater_equal(v_i, v_j)
                     with m.If(wins):
                         m.d.sync += [value.eq(v_i), index.eq(x_i)]
                 winners.append((value, index))
@@ -135,9 +136,10 @@ class StateDecoder(wiring.Component):
 
     ``h`` has legs ``perm[0..j-1]`` on for ``j > 0``. For the zero class ``j = 0``: all-off, or
     with ``policy = 1`` (fewest transitions) all-on when more than half the legs of ``h_prev`` are
-    on. With ``k`` legs on, ``U_i = FULL (N - k)`` for a leg that is on and ``-FULL k`` for one
-    that is off (the paper's Converter2). Computing ``U`` here keeps the integrator's commit stage
-    to one adder.
+    on. The feedback (the paper's Converter2) is ``U = N FULL v(h) = FULL (N h - k)`` with ``k``
+    legs on; it is output in units of ``FULL`` (``N h_i - k``, a small integer), because a
+    multiple of ``FULL = 2**(width-2)`` leaves the low ``width - 2`` bits of the integrators
+    untouched: the commit then adds only the few bits above them.
 
     Ports
     -----
@@ -152,17 +154,17 @@ class StateDecoder(wiring.Component):
     i_valid : In(1)
     o_h : Out(phases)
         Gate state, bit i = leg i upper switch on.
-    o_u : Out(ArrayLayout(signed(u_width), phases))
-        Feedback of ``o_h`` in the N-scaled domain.
+    o_units : Out(ArrayLayout(signed(units_width), phases))
+        Feedback of ``o_h`` divided by ``FULL``: ``N h_i - k``, in [-(N-1), N-1].
     o_valid : Out(1)
     """
 
     latency = 1
 
-    def __init__(self, phases: int, width: int):
-        self.contract = contract_for(phases, width)
+    def __init__(self, phases: int):
+        validate_positive(phases, "phases", minimum=3)
         self.phases = phases
-        self.u_width = signed_bits(-self.contract.u_bound, self.contract.u_bound)
+        self.units_width = signed_bits(-(phases - 1), phases - 1)
         super().__init__({
             "i_perm": In(data.ArrayLayout(range(phases), phases)),
             "i_j": In(range(phases)),
@@ -170,13 +172,13 @@ class StateDecoder(wiring.Component):
             "i_h_prev": In(phases),
             "i_valid": In(1),
             "o_h": Out(phases),
-            "o_u": Out(data.ArrayLayout(signed(self.u_width), phases)),
+            "o_units": Out(data.ArrayLayout(signed(self.units_width), phases)),
             "o_valid": Out(1),
         })
 
     def elaborate(self, platform):
         m = Module()
-        n, full = self.phases, self.contract.full
+        n = self.phases
         legs = []
         for leg in range(n):
             on = Const(0)
@@ -191,9 +193,6 @@ class StateDecoder(wiring.Component):
             m.d.comb += [h.eq(Mux(all_on, (1 << n) - 1, 0)), count.eq(Mux(all_on, n, 0))]
         with m.Else():
             m.d.comb += [h.eq(Cat(*legs)), count.eq(self.i_j)]
-        u_on = Signal(signed(self.u_width))
-        u_off = Signal(signed(self.u_width))
-        m.d.comb += [u_on.eq(full * (n - count)), u_off.eq(-(full * count))]
-        m.d.sync += [self.o_u[i].eq(Mux(h[i], u_on, u_off)) for i in range(n)]
+        m.d.sync += [self.o_units[i].eq(Mux(h[i], n, 0) - count) for i in range(n)]
         m.d.sync += [self.o_h.eq(h), self.o_valid.eq(self.i_valid)]
         return m

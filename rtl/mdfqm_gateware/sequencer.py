@@ -62,25 +62,30 @@ class UpdateSequencer(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
+        # phase counts up from the start (for sync_in: a compare with a constant); left counts
+        # the clocks to the end of the update down (the end is left == 0): neither needs an
+        # adder in front of a comparator. start and tick are registers computed one clock ahead.
         phase = Signal(self.period_width)
-        period_latched = Signal(self.period_width)
+        left = Signal(self.period_width)
         sub = Signal(self.osr_width)
+        start_q, tick_q = Signal(init=1), Signal(init=1)
+        m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q)]
 
         clamped = self.period < self.latency
-        period_now = Mux(self.start, Mux(clamped, self.latency, self.period), period_latched)
         osr_now = Mux(self.osr == 0, 1, self.osr)
-
-        m.d.comb += [
-            self.start.eq(phase == 0),
-            self.tick.eq(self.start & (sub == 0)),
+        restart = self.sync_in & (phase >= self.latency - 1)
+        # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
+        ends = ~self.start & (restart | (left == 0))
+        m.d.sync += [
+            phase.eq(Mux(self.start, 1, phase + 1)),
+            left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2), left - 1)),
+            start_q.eq(ends),
+            tick_q.eq(ends & (sub == 0)),     # sub only moves in start cycles
         ]
-        restart = self.sync_in & (phase + 1 >= self.latency)
-        m.d.sync += phase.eq(Mux(restart | (phase + 1 >= period_now), 0, phase + 1))
         with m.If(self.start):
             m.d.sync += [
-                period_latched.eq(period_now),
+                sub.eq(Mux(sub + 1 >= osr_now, 0, sub + 1)),
                 self.period_clamped.eq(clamped),
                 self.policy.eq(self.zero_policy),
-                sub.eq(Mux(sub + 1 >= osr_now, 0, sub + 1)),
             ]
         return m

@@ -1,10 +1,12 @@
 """sort1: the pipelined N-input sorting network."""
 
-from amaranth import C, Module, Mux, Signal, signed
+from amaranth import C, Cat, Module, Mux, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import sorting_network
+
+from .arith import greater
 
 
 def validate_count(count: int, name: str = "count", minimum: int = 2) -> None:
@@ -81,8 +83,11 @@ class SortNetwork(wiring.Component):
             touched = set()
             for a, b in layer:
                 touched.update((a, b))
-                a_first = (values[a] > values[b]) | (
-                    (values[a] == values[b]) & (index[a] < index[b]))
+                # One compare of the key (value, inverted index): larger value first, lower
+                # input index first among equal values. Keys are distinct, so the order is total.
+                key_a = Cat(~index[a], values[a]).as_signed()
+                key_b = Cat(~index[b], values[b]).as_signed()
+                a_first = greater(key_a, key_b)
                 m.d.sync += [
                     next_values[a].eq(Mux(a_first, values[a], values[b])),
                     next_values[b].eq(Mux(a_first, values[b], values[a])),
