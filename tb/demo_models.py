@@ -174,3 +174,175 @@ class BridgeModel:
             if self.index == 8:
                 self.index, self.total, self.timer, self.state = 0, 0, 0, "RECEIVE"
         return out
+
+
+def _mask(width: int) -> int:
+    return (1 << width) - 1
+
+
+class RegisterBankModel:
+    """:class:`mdfqm_gateware.demo.registers.RegisterBank`: ``step(cyc, stb, we, adr, dat_w,
+    ro=..., sets=...)``; ``ro`` maps read-only names to this cycle's values, ``sets`` maps
+    settable names to ``(set, value)``."""
+
+    def __init__(self, window, init=None):
+        self.window = window
+        self.values = {r.name: (init or {}).get(r.name, 0) for r in window.regs
+                       if r.access == "rw"}
+        self.strobes = {r.name: 0 for r in window.regs if r.access == "strobe"}
+        self.ack, self.dat_r = 0, 0
+
+    def outputs(self) -> dict:
+        return {"ack": self.ack, "dat_r": self.dat_r, **self.values, **self.strobes}
+
+    def step(self, cyc=0, stb=0, we=0, adr=0, dat_w=0, ro=None, sets=None) -> dict:
+        out = self.outputs()
+        ro, sets = ro or {}, sets or {}
+        request = cyc and stb and not self.ack
+        for name in self.strobes:
+            self.strobes[name] = 0
+        written = None
+        if request:
+            reg = next((r for r in self.window.regs if r.offset == adr), None)
+            if reg is None or reg.access == "strobe":
+                self.dat_r = 0
+            elif reg.access == "rw":
+                self.dat_r = out[reg.name]
+            else:
+                self.dat_r = ro[reg.name] & _mask(reg.width)
+            if reg is not None and we:
+                if reg.access == "rw":
+                    self.values[reg.name] = dat_w & _mask(reg.width)
+                    written = reg.name
+                elif reg.access == "strobe":
+                    self.strobes[reg.name] = 1
+        for name, (go, value) in sets.items():
+            if go and name != written:
+                self.values[name] = value
+        self.ack = int(bool(request))
+        return out
+
+
+class ButtonsModel:
+    """:class:`mdfqm_gateware.demo.buttons.Buttons`: ``step(raw)``."""
+
+    def __init__(self, count: int, debounce: int):
+        self.debounce = debounce
+        self.s1 = self.s2 = self.state = self.pressed = self.prescaler = 0
+
+    def outputs(self) -> dict:
+        return {"state": self.state, "pressed": self.pressed}
+
+    def step(self, raw: int = 0) -> dict:
+        out = self.outputs()
+        self.pressed = 0
+        if self.prescaler == self.debounce - 1:
+            self.prescaler = 0
+            self.pressed = self.s2 & ~self.state
+            self.state = self.s2
+        else:
+            self.prescaler += 1
+        self.s1, self.s2 = raw, self.s1
+        return out
+
+
+class DemoModel:
+    """:class:`mdfqm_gateware.demo.design.DemoDesign` (fallback modulator): ``step(uart_rx,
+    buttons, fault_in)`` returns the pins of this cycle, then advances every block one clock.
+
+    The blocks' models exchange only values visible in the current cycle (every signal between
+    blocks is registered or combinational from registers), so each block's outputs are taken
+    first and then every block steps."""
+
+    def __init__(self, config):
+        from mdfqm_gateware.demo.regmap import DEMO_ID, demo_window, modulator_window
+        from mdfqm_model.clock import CoreModel
+        from mdfqm_model.driver import GateDriverModel
+        from mdfqm_model.nco import NcoModel
+
+        c = self.config = config
+        self.n = n = c.phases
+        self.urx, self.utx = UartRxModel(c.divider), UartTxModel(c.divider)
+        self.bridge = BridgeModel(16, c.bus_timeout, c.frame_timeout)
+        self.demo_window = demo_window(n, c.width, c.acc_bits)
+        self.mod_window = modulator_window(c.time_width)
+        self.demo = RegisterBankModel(self.demo_window, c.demo_init)
+        self.mod = RegisterBankModel(self.mod_window, c.modulator_init)
+        self.nco = NcoModel(n, c.width, c.acc_bits, c.table_bits, c.sample_width)
+        self.core = CoreModel(n, c.width)
+        self.driver = GateDriverModel(n, c.dead_min, c.time_width)
+        self.buttons = ButtonsModel(len(c.buttons), c.debounce) if c.buttons else None
+        self.cycles, self.switches = 0, [0] * n
+        self.snap_cycles, self.snap = 0, [0] * n
+        self.constants = {"ID": DEMO_ID, "INFO": c.info, "CLK_HZ": c.clk_hz}
+
+    def pins(self) -> dict:
+        d = self.driver.outputs()
+        return {"uart_tx": self.utx.tx, "upper": d["upper"], "lower": d["lower"],
+                "led_active": d["active"], "led_fault": d["fault"] | d["fault_input"],
+                "heartbeat": (self.cycles >> self.config.heartbeat_bit) & 1,
+                "trigger": self.nco.acc >> (self.config.acc_bits - 1)}
+
+    def step(self, uart_rx=1, buttons=0, fault_in=0) -> dict:
+        c, n = self.config, self.n
+        pins = self.pins()
+        urx, br, utx = self.urx.outputs(), self.bridge.outputs(), self.utx.outputs()
+        demo, mod = self.demo.outputs(), self.mod.outputs()
+        nco, core, drv = self.nco.outputs(), self.core.outputs(), self.driver.outputs()
+        btn = self.buttons.outputs() if self.buttons else {"state": 0, "pressed": 0}
+        pressed = {a: (btn["pressed"] >> i) & 1 for i, a in enumerate(c.buttons)}
+
+        # the decoder
+        adr = br["adr"]
+        hit_mod = adr >> self.mod_window.addr_width == self.mod_window.base >> \
+            self.mod_window.addr_width
+        hit_demo = adr >> self.demo_window.addr_width == self.demo_window.base >> \
+            self.demo_window.addr_width
+        ack = int((mod["ack"] and hit_mod) or (demo["ack"] and hit_demo))
+        dat_r = (mod["dat_r"] if hit_mod else 0) | (demo["dat_r"] if hit_demo else 0)
+
+        self.urx.step(rx=uart_rx, ready=br["rx_ready"])
+        self.bridge.step(rx_valid=urx["valid"], rx_payload=urx["payload"], tx_ready=utx["ready"],
+                         ack=ack, dat_r=dat_r)
+        self.utx.step(valid=br["tx_valid"], payload=br["tx_payload"])
+
+        freq, amp = demo["NCO_FREQ"], demo["NCO_AMP"]
+        freq_top, amp_top = _mask(c.acc_bits), _mask(c.width - 1)
+        up, step = freq + (freq >> 3) + 1, c.amp_step
+        sets = {
+            "NCO_FREQ": (pressed.get("freq_up", 0) | pressed.get("freq_down", 0),
+                         min(up, freq_top) if pressed.get("freq_up", 0)
+                         else max(freq - (freq >> 3) - 1, 0)),
+            "NCO_AMP": (pressed.get("amp_up", 0) | pressed.get("amp_down", 0),
+                        min(amp + step, amp_top) if pressed.get("amp_up", 0)
+                        else max(amp - step, 0)),
+        }
+        ro = dict(self.constants, NCO_PHASE=nco["phase"], CYCLES=self.snap_cycles,
+                  BUTTONS=btn["state"],
+                  **{f"SWITCHES_{i}": self.snap[i] for i in range(n)})
+        bus = {"cyc": br["cyc"], "stb": br["stb"], "we": br["we"], "dat_w": br["dat_w"]}
+        self.demo.step(**{**bus, "cyc": br["cyc"] and hit_demo, "stb": br["stb"] and hit_demo},
+                       adr=adr & _mask(self.demo_window.addr_width), ro=ro, sets=sets)
+        ctrl = mod["CTRL"]
+        status = (drv["active"] | drv["fault"] << 1 | drv["fault_input"] << 2
+                  | core["saturated"] << 3 | core["period_clamped"] << 4)
+        self.mod.step(**{**bus, "cyc": br["cyc"] and hit_mod, "stb": br["stb"] and hit_mod},
+                      adr=adr & _mask(self.mod_window.addr_width),
+                      ro={"STATUS": status, "DEAD_MIN": c.dead_min},
+                      sets={"CTRL": (drv["fault"] | pressed.get("enable", 0),
+                                     ctrl & ~1 if drv["fault"] else ctrl ^ 1)})
+
+        self.nco.step(freq=freq, amplitude=amp, ready=core["ref_ready"])
+        self.core.step(ref_valid=nco["valid"], ref=nco["payload"], period=mod["PERIOD"],
+                       osr=mod["OSR"], zero_policy=(ctrl >> 1) & 1)
+        self.driver.step(h=core["h"], update=core["update"], enable=ctrl & 1, dead=mod["DEAD"],
+                         min_pulse=mod["MIN_PULSE"], fault_in=fault_in,
+                         fault_clear=mod["FAULT_CLEAR"] | pressed.get("fault_clear", 0))
+        if demo["SNAPSHOT"]:
+            self.snap_cycles, self.snap = self.cycles, list(self.switches)
+        self.cycles = (self.cycles + 1) & 0xFFFFFFFF
+        self.switches = [(s + ((drv["event"] >> i) & 1)) & 0xFFFFFFFF
+                         for i, s in enumerate(self.switches)]
+        if self.buttons:
+            self.buttons.step(raw=buttons)
+        return pins

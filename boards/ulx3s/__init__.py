@@ -1,0 +1,1 @@
+"""Board folder: see top.py."""
