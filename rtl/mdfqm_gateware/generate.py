@@ -17,12 +17,14 @@ from pathlib import Path
 from amaranth.back import verilog
 
 from .core import MdfqmCore
+from .top import MdfqmTop
 
 
 #: (module name, constructor) of every drop-in file `make` writes
 def default_configs(phases: int, width: int):
     return [
         (f"mdfqm_core_n{phases}_w{width}", lambda: MdfqmCore(phases, width)),
+        (f"mdfqm_top_n{phases}_w{width}", lambda: MdfqmTop(phases, width)),
     ]
 
 

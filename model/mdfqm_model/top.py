@@ -1,0 +1,375 @@
+"""Clock-level model of the drop-in top: core + gate driver + Wishbone register file + switching
+counters + ADC trigger. The register map below is the single source of truth: the gateware
+(:mod:`mdfqm_gateware.top`) imports these constants, ``docs/top.md`` documents them (a test
+checks the table there against :data:`REGISTERS`).
+
+The core's algorithm is not repeated here: :class:`TopModel` composes
+:class:`mdfqm_model.clock.CoreModel` and :class:`mdfqm_model.driver.GateDriverModel`.
+
+Wishbone classic slave (32-bit data, word addresses, ``ADDR_WIDTH`` bits)
+-------------------------------------------------------------------------
+A *request* is a cycle with ``cyc & stb & ~ack``. Its write takes effect at the end of that
+cycle (visible in the next), ``ack`` is high in the next cycle for one clock (registered), and
+``dat_r`` in that cycle holds the register read in the request cycle (0 after a write or when
+no request). No stalls, no ERR/RTY; ``sel`` is accepted and ignored (every write writes the
+whole register: use 32-bit accesses). A master holding ``stb`` through the ``ack`` cycle is not
+seen twice: the cycle with ``ack`` high is never a request.
+
+Write clamps (every value of every field is legal; nothing wraps): unsigned fields saturate at
+their maximum (``min(value, max)`` of the 32-bit word); ``DEAD`` is also raised to the
+floor ``dead_min``; ``REF[i]`` takes the word as signed 32-bit and saturates it into the
+``width``-bit code range; ``CTRL`` keeps its two defined bits. Writes to read-only or unmapped
+addresses are acknowledged and ignored; unmapped addresses read 0.
+
+Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
+-------------------------------------------------------------------------------
+- Core inputs: ``period = PERIOD``, ``osr = OSR``, ``zero_policy = CTRL.ZERO_POLICY``,
+  ``sync_in`` (port). ``sync_out`` is the core's ``start`` (combinational from its registers).
+- Reference: ``CMD.REF_COMMIT`` copies ``REF[0..N-1]`` into a snapshot and sets ``ref_pending``.
+  The core's stream sees ``valid = ref_pending | ref.valid`` and the snapshot while
+  ``ref_pending``: **a committed register beat wins** over the direct stream port, whose
+  ``ready`` is ``core_ready & ~ref_pending``. ``ref_pending`` clears when the core accepts it;
+  a commit while one is pending replaces the snapshot (a commit wins over the clear).
+- Driver inputs: the core's ``h`` and ``update``, ``enable = CTRL.ENABLE``, ``dead = DEAD``,
+  ``min_pulse = MIN_PULSE``, ``fault_in`` (port), ``fault_clear = CMD.FAULT_CLEAR`` strobe.
+- Switching counters: ``EVENTS[i] += event[i]``, ``EVENTS_TOTAL += popcount(event)`` each
+  cycle, ``event`` being the driver's turn-on strobes (one per turn-on of either switch of a
+  leg: in complementary switching, one per change of the leg's state). 32 bits, wrapping.
+  ``CMD.COUNT_CLEAR`` zeroes them all (the strobes of that cycle are not counted).
+- ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= min(elapsed + 1, 2**17 - 1)``;
+  ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
+  ``s`` the update start, and there is none when ``ADC_OFFSET >= P`` (the update period).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .clock import CoreModel
+from .contract import RULES
+from .driver import TIME_WIDTH, GateDriverModel, validate_dead_min
+
+__all__ = [
+    "ADC_COUNTER_WIDTH",
+    "ADDR_WIDTH",
+    "COUNTER_WIDTH",
+    "DEFAULT_DEAD_MIN",
+    "ID_VALUE",
+    "MAX_PHASES",
+    "REGISTERS",
+    "TOP_OUTPUTS",
+    "Register",
+    "TopModel",
+    "info_word",
+    "validate_top_phases",
+]
+
+ADDR_WIDTH = 6
+MAX_PHASES = 16
+ID_VALUE = 0x4D444651           # "MDFQ"
+COUNTER_WIDTH = 32
+ADC_COUNTER_WIDTH = 17          # > 16 bits: it saturates above every ADC_OFFSET
+DEFAULT_DEAD_MIN = 64           # clocks: 0.64 us at 100 MHz, 1.33 us at 48 MHz
+
+# word addresses
+ID, INFO, DEAD_MIN, CTRL, CMD, STATUS = 0x00, 0x01, 0x02, 0x03, 0x04, 0x05
+PERIOD, OSR, DEAD, MIN_PULSE, ADC_OFFSET = 0x06, 0x07, 0x08, 0x09, 0x0A
+EVENTS_TOTAL, GATES = 0x0B, 0x0C
+REF_BASE, EVENTS_BASE = 0x10, 0x20
+
+# CTRL bits
+CTRL_ENABLE, CTRL_ZERO_POLICY = 1 << 0, 1 << 1
+CTRL_MASK = CTRL_ENABLE | CTRL_ZERO_POLICY
+# CMD bits (write-1 strobes)
+CMD_REF_COMMIT, CMD_FAULT_CLEAR, CMD_COUNT_CLEAR = 1 << 0, 1 << 1, 1 << 2
+# STATUS bits
+(STATUS_FAULT, STATUS_FAULT_INPUT, STATUS_ACTIVE, STATUS_REF_PENDING, STATUS_SATURATED,
+ STATUS_PERIOD_CLAMPED) = (1 << b for b in range(6))
+
+#: per-cycle outputs of :meth:`TopModel.step`
+TOP_OUTPUTS = ("wb_ack", "wb_dat_r", "ref_ready", "upper", "lower", "adc_trigger", "sync_out",
+               "fault")
+
+
+@dataclass(frozen=True)
+class Register:
+    address: int
+    name: str
+    access: str        # "R", "RW", "W"
+    reset: str         # as documented
+    clamp: str
+
+
+REGISTERS = (
+    Register(ID, "ID", "R", "0x4D444651", "-"),
+    Register(INFO, "INFO", "R", "config", "-"),
+    Register(DEAD_MIN, "DEAD_MIN", "R", "dead_min", "-"),
+    Register(CTRL, "CTRL", "RW", "0", "bits other than ENABLE, ZERO_POLICY dropped"),
+    Register(CMD, "CMD", "W", "0", "write-1 strobes; reads 0"),
+    Register(STATUS, "STATUS", "R", "0", "-"),
+    Register(PERIOD, "PERIOD", "RW", "latency", "min(v, 65535); core uses max(PERIOD, latency)"),
+    Register(OSR, "OSR", "RW", "1", "min(v, 255); core uses max(OSR, 1)"),
+    Register(DEAD, "DEAD", "RW", "dead_min", "min(max(v, dead_min), 65535)"),
+    Register(MIN_PULSE, "MIN_PULSE", "RW", "0", "min(v, 65535)"),
+    Register(ADC_OFFSET, "ADC_OFFSET", "RW", "0", "min(v, 65535)"),
+    Register(EVENTS_TOTAL, "EVENTS_TOTAL", "R", "0", "wraps at 2**32"),
+    Register(GATES, "GATES", "R", "0", "-"),
+    Register(REF_BASE, "REF[i]", "RW", "0", "signed, saturated to the width-bit code range"),
+    Register(EVENTS_BASE, "EVENTS[i]", "R", "0", "wraps at 2**32"),
+)
+
+
+def validate_top_phases(phases) -> int:
+    if isinstance(phases, bool) or not isinstance(phases, int) or not 3 <= phases <= MAX_PHASES:
+        raise ValueError(f"phases must be an integer in [3, {MAX_PHASES}] (the register map "
+                         f"holds {MAX_PHASES} legs), not {phases!r}")
+    return phases
+
+
+def info_word(phases: int, width: int, rule: str, upper_active_low: bool,
+              lower_active_low: bool, latency: int) -> int:
+    """``INFO``: phases [4:0], width [10:5], rule [11] (1 exact_nearest), upper_active_low [12],
+    lower_active_low [13], loop latency [23:16]."""
+    return (phases | width << 5 | RULES.index(rule) << 11 | int(upper_active_low) << 12
+            | int(lower_active_low) << 13 | latency << 16)
+
+
+def _u32(value, name):
+    if (isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer))
+            or not 0 <= value < (1 << 32)):
+        raise ValueError(f"{name} must be an unsigned 32-bit integer, not {value!r}")
+    return int(value)
+
+
+def _bit(value, name):
+    if isinstance(value, (bool, np.bool_)) or value not in (0, 1):
+        raise ValueError(f"{name} must be 0 or 1, not {value!r}")
+    return int(value)
+
+
+class TopModel:
+    """Cycle-accurate model of :class:`mdfqm_gateware.top.MdfqmTop` (see the module docstring)."""
+
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
+                 dead_min: int = DEFAULT_DEAD_MIN, upper_active_low: bool = False,
+                 lower_active_low: bool = False):
+        validate_top_phases(phases)
+        validate_dead_min(dead_min, TIME_WIDTH)
+        self.core = CoreModel(phases, width, rule)
+        self.driver = GateDriverModel(phases, dead_min, TIME_WIDTH, upper_active_low,
+                                      lower_active_low)
+        self.phases, self.width, self.rule = phases, width, rule
+        self.dead_min = dead_min
+        self.latency = self.core.latency
+        self.contract = self.core.contract
+        self.info = info_word(phases, width, rule, upper_active_low, lower_active_low,
+                              self.latency)
+        self.reset()
+
+    def reset(self) -> None:
+        """Reset state of the top's own registers (the sub-models reset on ``rst`` themselves)."""
+        n = self.phases
+        self.ctrl = 0
+        self.period = self.latency
+        self.osr = 1
+        self.dead = self.dead_min
+        self.min_pulse = 0
+        self.adc_offset = 0
+        self.ref = [0] * n
+        self.snapshot = [0] * n
+        self.ref_pending = 0
+        self.ack = 0
+        self.dat_r = 0
+        self.events = [0] * n
+        self.total = 0
+        self.adc_cnt = 0
+        self.adc = 0
+
+    # ------------------------------------------------------------------ the register file
+    def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
+        """The word a read of ``address`` returns in a cycle with these sub-model outputs and
+        active-high gates ``up`` / ``lo`` (the registers of this cycle, before :meth:`step`
+        advances them)."""
+        n = self.phases
+        if address == ID:
+            return ID_VALUE
+        if address == INFO:
+            return self.info
+        if address == DEAD_MIN:
+            return self.dead_min
+        if address == CTRL:
+            return self.ctrl
+        if address == STATUS:
+            return (drv_out["fault"] * STATUS_FAULT | drv_out["fault_input"] * STATUS_FAULT_INPUT
+                    | drv_out["active"] * STATUS_ACTIVE | self.ref_pending * STATUS_REF_PENDING
+                    | core_out["saturated"] * STATUS_SATURATED
+                    | core_out["period_clamped"] * STATUS_PERIOD_CLAMPED)
+        if address == PERIOD:
+            return self.period
+        if address == OSR:
+            return self.osr
+        if address == DEAD:
+            return self.dead
+        if address == MIN_PULSE:
+            return self.min_pulse
+        if address == ADC_OFFSET:
+            return self.adc_offset
+        if address == EVENTS_TOTAL:
+            return self.total
+        if address == GATES:
+            return up | lo << 16
+        if REF_BASE <= address < REF_BASE + n:
+            return self.ref[address - REF_BASE] & 0xFFFFFFFF
+        if EVENTS_BASE <= address < EVENTS_BASE + n:
+            return self.events[address - EVENTS_BASE]
+        return 0
+
+    def write(self, address: int, value: int) -> None:
+        """A write's effect on the stored registers (CMD strobes are handled in :meth:`step`)."""
+        c = self.contract
+        if address == CTRL:
+            self.ctrl = value & CTRL_MASK
+        elif address == PERIOD:
+            self.period = min(value, 0xFFFF)
+        elif address == OSR:
+            self.osr = min(value, 0xFF)
+        elif address == DEAD:
+            self.dead = min(max(value, self.dead_min), 0xFFFF)
+        elif address == MIN_PULSE:
+            self.min_pulse = min(value, 0xFFFF)
+        elif address == ADC_OFFSET:
+            self.adc_offset = min(value, 0xFFFF)
+        elif REF_BASE <= address < REF_BASE + self.phases:
+            signed = value - (1 << 32) if value >> 31 else value
+            self.ref[address - REF_BASE] = min(max(signed, c.code_min), c.code_max)
+
+    # ------------------------------------------------------------------ one clock
+    @property
+    def ref_ready(self) -> int:
+        return int(self.core.ref_ready and not self.ref_pending)
+
+    def step(self, rst=0, wb_cyc=0, wb_stb=0, wb_we=0, wb_adr=0, wb_dat_w=0, wb_sel=0xF,
+             ref_valid=0, ref=None, fault_in=0, sync_in=0) -> dict:
+        """Outputs visible during this cycle, then advance to the next one."""
+        rst = _bit(rst, "rst")
+        wb_cyc, wb_stb, wb_we = _bit(wb_cyc, "wb_cyc"), _bit(wb_stb, "wb_stb"), _bit(wb_we, "wb_we")
+        if (isinstance(wb_adr, (bool, np.bool_)) or not isinstance(wb_adr, (int, np.integer))
+                or not 0 <= wb_adr < (1 << ADDR_WIDTH)):
+            raise ValueError(f"wb_adr must be an unsigned {ADDR_WIDTH}-bit integer, not {wb_adr!r}")
+        wb_adr = int(wb_adr)
+        wb_dat_w = _u32(wb_dat_w, "wb_dat_w")
+        if isinstance(wb_sel, bool) or wb_sel not in range(16):
+            raise ValueError(f"wb_sel must be an unsigned 4-bit integer, not {wb_sel!r}")
+        ref_valid = _bit(ref_valid, "ref_valid")
+        fault_in, sync_in = _bit(fault_in, "fault_in"), _bit(sync_in, "sync_in")
+
+        req = wb_cyc and wb_stb and not self.ack
+        wr = req and wb_we
+        cmd = wb_dat_w if wr and wb_adr == CMD else 0
+        port_ready = self.ref_ready
+        core_ready = self.core.ref_ready
+
+        core_out = self.core.step(
+            rst=rst, ref_valid=int(self.ref_pending or ref_valid),
+            ref=self.snapshot if self.ref_pending else ref, period=self.period, osr=self.osr,
+            zero_policy=int(bool(self.ctrl & CTRL_ZERO_POLICY)), sync_in=sync_in)
+        assert core_out["ref_ready"] == core_ready
+        up, lo = self.driver.up, self.driver.lo
+        drv_out = self.driver.step(
+            rst=rst, h=core_out["h"], update=core_out["update"],
+            enable=int(bool(self.ctrl & CTRL_ENABLE)), dead=self.dead, min_pulse=self.min_pulse,
+            fault_in=fault_in, fault_clear=int(bool(cmd & CMD_FAULT_CLEAR)))
+        out = {
+            "wb_ack": self.ack,
+            "wb_dat_r": self.dat_r,
+            "ref_ready": port_ready,
+            "upper": drv_out["upper"],
+            "lower": drv_out["lower"],
+            "adc_trigger": self.adc,
+            "sync_out": core_out["start"],
+            "fault": drv_out["fault"],
+        }
+        if rst:
+            self.reset()
+            return out
+        rd = self.read(wb_adr, core_out, drv_out, up, lo) if req and not wb_we else 0
+
+        # reference arbitration (a commit wins over the clear of an accepted beat)
+        if cmd & CMD_REF_COMMIT:
+            self.snapshot, self.ref_pending = list(self.ref), 1
+        elif self.ref_pending and core_ready:
+            self.ref_pending = 0
+        # switching counters
+        event = drv_out["event"]
+        if cmd & CMD_COUNT_CLEAR:
+            self.events, self.total = [0] * self.phases, 0
+        else:
+            mask = (1 << COUNTER_WIDTH) - 1
+            self.events = [(e + ((event >> i) & 1)) & mask for i, e in enumerate(self.events)]
+            self.total = (self.total + bin(event).count("1")) & mask
+        # ADC trigger
+        elapsed = 0 if core_out["start"] else self.adc_cnt
+        self.adc_cnt = min(elapsed + 1, (1 << ADC_COUNTER_WIDTH) - 1)
+        self.adc = int(elapsed == self.adc_offset)
+        # the bus
+        if wr:
+            self.write(wb_adr, wb_dat_w)
+        self.ack = int(req)
+        self.dat_r = rd
+        return out
+
+
+def timing_diagram(period: int = 16, dead: int = 3, adc_offset: int = 2) -> str:
+    """One update of a three-phase top, rendered from :class:`TopModel` (``docs/top.md`` shows
+    this text; a test checks it is current). One character per clock: ``‾`` high, ``_`` low;
+    ``h`` as a hexadecimal digit. Leg 0 switches from lower to upper in the update shown."""
+    m = TopModel(3, 16, dead_min=2)
+    f = m.contract.full
+
+    def tick(**kw):
+        row = {"up": m.driver.up, "lo": m.driver.lo, "h": m.core.h, "update": m.core.update,
+               "ref_valid": kw.get("ref_valid", 0)}
+        row.update(m.step(**kw))
+        return row
+
+    for address, value in ((PERIOD, period), (DEAD, dead), (ADC_OFFSET, adc_offset),
+                           (CTRL, CTRL_ENABLE)):
+        bus = {"wb_cyc": 1, "wb_stb": 1, "wb_we": 1, "wb_adr": address, "wb_dat_w": value}
+        tick(**bus)
+        tick(**bus)
+        tick()
+    # run to an update start, offer one beat just after it, and follow it to the gates
+    while m.core.phase != 0:
+        tick()
+    tick()
+    rows = [tick(), tick(ref_valid=1, ref=[f // 2, -f // 4, -f // 4])]
+    while rows[-1]["ref_ready"] == 0:
+        rows.append(tick(ref_valid=1, ref=[f // 2, -f // 4, -f // 4]))
+    for _ in range(2 * period + 6):
+        rows.append(tick())
+    starts = [i for i, r in enumerate(rows) if r["sync_out"]]
+    s = next(i for i in starts if any(rows[j]["h"] != rows[i]["h"] for j in range(i, len(rows))))
+    lo_cycle, hi_cycle = 0, min(len(rows), s + m.latency + dead + 8)
+    window = rows[lo_cycle:hi_cycle]
+
+    def wave(values):
+        return "".join("‾" if v else "_" for v in values)
+
+    lines = [
+        f"PERIOD={period}  DEAD={dead}  ADC_OFFSET={adc_offset}  latency L={m.latency}  "
+        f"(s = update start)",
+        "cycle            " + "".join(
+            "s" if i == s else ("|" if (i - s) % 5 == 0 else " ")
+            for i in range(lo_cycle, hi_cycle)),
+        "ref__valid       " + wave(r["ref_valid"] for r in window),
+        "ref__ready       " + wave(r["ref_ready"] for r in window),
+        "sync_out         " + wave(r["sync_out"] for r in window),
+        "core.update      " + wave(r["update"] for r in window),
+        "core.h           " + "".join(f"{r['h']:x}" for r in window),
+        "upper[0]         " + wave(r["up"] & 1 for r in window),
+        "lower[0]         " + wave(r["lo"] & 1 for r in window),
+        "adc_trigger      " + wave(r["adc_trigger"] for r in window),
+    ]
+    return "\n".join(lines)

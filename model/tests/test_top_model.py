@@ -1,0 +1,297 @@
+"""Top model: the Wishbone register file (timing, clamps, map), the reference arbitration, the
+switching counters, the ADC trigger and sync_out; and the register table of docs/top.md."""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mdfqm_model import top as regs
+from mdfqm_model.driver import check_gate_safety
+from mdfqm_model.top import REGISTERS, TopModel
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "top.md"
+
+
+class Master:
+    """A Wishbone classic master on a TopModel: request until ack, then one idle cycle."""
+
+    def __init__(self, model, **held):
+        self.m, self.held, self.log = model, held, []
+        self.up, self.lo = [], []          # active-high gates visible in each cycle
+
+    def tick(self, **kw):
+        self.up.append(self.m.driver.up)
+        self.lo.append(self.m.driver.lo)
+        out = self.m.step(**{**self.held, **kw})
+        self.log.append(out)
+        return out
+
+    def access(self, address, we, value=0):
+        bus = {"wb_cyc": 1, "wb_stb": 1, "wb_we": we, "wb_adr": address, "wb_dat_w": value}
+        first = self.tick(**bus)
+        assert first["wb_ack"] == 0
+        out = self.tick(**bus)              # held through the ack cycle: not a second request
+        assert out["wb_ack"] == 1
+        after = self.tick()
+        assert after["wb_ack"] == 0
+        return out["wb_dat_r"]
+
+    def write(self, address, value):
+        self.access(address, 1, value & 0xFFFFFFFF)
+
+    def read(self, address):
+        return self.access(address, 0)
+
+    def run(self, cycles, **kw):
+        return [self.tick(**kw) for _ in range(cycles)]
+
+
+def test_reset_values_and_read_only_registers():
+    m = TopModel(3, 16, dead_min=7)
+    bus = Master(m)
+    assert bus.read(regs.ID) == 0x4D444651
+    info = bus.read(regs.INFO)
+    assert info & 0x1F == 3 and (info >> 5) & 0x3F == 16 and (info >> 16) & 0xFF == m.latency
+    assert (info >> 11) & 7 == 0
+    assert bus.read(regs.DEAD_MIN) == 7
+    assert bus.read(regs.CTRL) == 0
+    assert bus.read(regs.PERIOD) == m.latency
+    assert bus.read(regs.OSR) == 1
+    assert bus.read(regs.DEAD) == 7
+    for address in (regs.MIN_PULSE, regs.ADC_OFFSET, regs.EVENTS_TOTAL, regs.GATES, regs.CMD,
+                    regs.REF_BASE, regs.EVENTS_BASE + 2, regs.REF_BASE + 3, 0x3F, 0x0D):
+        assert bus.read(address) == 0
+    for address in (regs.ID, regs.INFO, regs.DEAD_MIN, regs.STATUS, regs.GATES,
+                    regs.EVENTS_TOTAL, regs.EVENTS_BASE):
+        bus.write(address, 0xFFFFFFFF)
+    assert bus.read(regs.ID) == 0x4D444651 and bus.read(regs.DEAD_MIN) == 7
+    assert bus.read(regs.EVENTS_BASE) == 0
+
+
+def test_info_word_flags():
+    m = TopModel(5, 18, "exact_nearest", 3, upper_active_low=True, lower_active_low=False)
+    assert m.info == 5 | 18 << 5 | 1 << 11 | 1 << 12 | m.latency << 16
+
+
+@pytest.mark.parametrize(("address", "value", "stored"), [
+    (regs.DEAD, 0, 7), (regs.DEAD, 6, 7), (regs.DEAD, 8, 8), (regs.DEAD, 0x10000, 0xFFFF),
+    (regs.DEAD, 0xFFFFFFFF, 0xFFFF),
+    (regs.PERIOD, 0, 0), (regs.PERIOD, 0x12345, 0xFFFF), (regs.PERIOD, 77, 77),
+    (regs.OSR, 0, 0), (regs.OSR, 256, 255), (regs.OSR, 9, 9),
+    (regs.MIN_PULSE, 0x80000000, 0xFFFF), (regs.ADC_OFFSET, 0x10001, 0xFFFF),
+    (regs.ADC_OFFSET, 12, 12), (regs.CTRL, 0xFFFFFFFF, 3), (regs.CTRL, 0xFFFFFFFC, 0),
+    (regs.REF_BASE, 0x7FFFFFFF, 0x7FFF), (regs.REF_BASE + 1, 0x80000000, 0xFFFF8000),
+    (regs.REF_BASE + 2, 0xFFFFFFFF, 0xFFFFFFFF), (regs.REF_BASE, 0x1234, 0x1234),
+    (regs.REF_BASE + 2, -20000 & 0xFFFFFFFF, -20000 & 0xFFFFFFFF),
+    (regs.REF_BASE + 3, 5, 0),            # beyond the phases: unmapped
+])
+def test_write_clamps(address, value, stored):
+    bus = Master(TopModel(3, 16, dead_min=7))
+    bus.write(address, value)
+    assert bus.read(address) == stored
+
+
+def test_bus_timing_and_back_to_back_requests():
+    m = TopModel(3, 16, dead_min=2)
+    bus = Master(m)
+    cyc = {"wb_cyc": 1, "wb_stb": 1, "wb_we": 1, "wb_adr": regs.DEAD, "wb_dat_w": 9}
+    o0 = bus.tick(**cyc)                 # request
+    assert o0["wb_ack"] == 0 and m.dead == 9   # written at the end of the request cycle
+    o1 = bus.tick(**{**cyc, "wb_we": 0})  # ack cycle: the new request is not seen yet
+    assert o1["wb_ack"] == 1 and o1["wb_dat_r"] == 0
+    o2 = bus.tick(**{**cyc, "wb_we": 0})  # the read is taken now
+    o3 = bus.tick(**{**cyc, "wb_we": 0})
+    assert o2["wb_ack"] == 0 and o3["wb_ack"] == 1 and o3["wb_dat_r"] == 9
+    # stb without cyc, and cyc without stb, are not requests
+    assert bus.tick(wb_cyc=0, wb_stb=1)["wb_ack"] == 0
+    assert bus.tick(wb_cyc=1, wb_stb=0)["wb_ack"] == 0
+    assert bus.tick()["wb_ack"] == 0
+
+
+def test_register_reference_is_committed_and_wins_over_the_port():
+    m = TopModel(3, 16, dead_min=2)
+    f = m.contract.full
+    bus = Master(m, ref_valid=1, ref=[1, 2, 3])
+    bus.tick()                                   # the port's beat is accepted at once
+    assert m.core.s1 == 1 and m.core.s1_data == (1, 2, 3)
+    beat = (f // 2, -f // 4, -f // 4)
+    for i, v in enumerate(beat):
+        bus.write(regs.REF_BASE + i, v & 0xFFFFFFFF)
+    bus.write(regs.CMD, regs.CMD_REF_COMMIT)
+    assert m.ref_pending == 1 and m.ref_ready == 0     # the port waits
+    assert bus.read(regs.STATUS) & regs.STATUS_REF_PENDING
+    taken = []
+    for _ in range(4 * m.latency):
+        pending_ready = m.ref_pending and m.core.ref_ready
+        port_ready = m.ref_ready
+        bus.tick()
+        if pending_ready:
+            taken.append(("register", m.core.s1_data))
+        elif port_ready:
+            taken.append(("port", m.core.s1_data))
+    assert taken[0] == ("register", beat) and m.ref_pending == 0
+    assert taken[1:] and set(taken[1:]) == {("port", (1, 2, 3))}   # port resumes
+
+
+def test_runtime_settings_reach_the_core():
+    m = TopModel(5, 16, dead_min=2)
+    bus = Master(m)
+    bus.write(regs.PERIOD, 13)
+    bus.write(regs.OSR, 3)
+    bus.write(regs.CTRL, regs.CTRL_ZERO_POLICY)
+    outs = bus.run(100)
+    starts = [t for t, o in enumerate(outs) if o["sync_out"]]
+    assert set(np.diff(starts[1:])) == {13}
+    assert m.core.osr_lat == 3 and m.core.policy_lat == 1
+    bus.write(regs.PERIOD, 1)
+    bus.run(40)
+    assert bus.read(regs.STATUS) & regs.STATUS_PERIOD_CLAMPED
+
+
+def enable_and_run(m, cycles, period=16, dead=3, **kw):
+    bus = Master(m)
+    bus.write(regs.PERIOD, period)
+    bus.write(regs.DEAD, dead)
+    bus.write(regs.CTRL, regs.CTRL_ENABLE)
+    f = m.contract.full
+    out = []
+    for k in range(cycles):
+        angle = k * 0.01
+        beat = [int(0.4 * f * np.cos(angle - 2 * np.pi * i / m.phases)) for i in range(m.phases)]
+        out.append(bus.tick(ref_valid=1, ref=beat, **kw))
+    return bus, out
+
+
+def test_counters_count_turn_ons_and_clear():
+    m = TopModel(3, 16, dead_min=2)
+    bus, _ = enable_and_run(m, 3000)
+    up, lo = np.array(bus.up), np.array(bus.lo)
+    # counter state now = turn-ons visible in every recorded cycle (all off before cycle 0)
+    for leg in range(3):
+        on = np.concatenate([[0], ((up >> leg) | (lo >> leg)) & 1])
+        assert m.events[leg] == int(np.sum(on[1:] & (1 - on[:-1])))
+    assert sum(m.events) == m.total > 100
+    check_gate_safety(up, lo, 3, dead=np.full(len(up), 3))
+    total = m.total
+    assert bus.read(regs.EVENTS_TOTAL) in range(total, total + 4)
+    bus.write(regs.CMD, regs.CMD_COUNT_CLEAR)
+    assert m.total <= 3 and bus.read(regs.EVENTS_BASE) <= 3
+
+
+def test_counters_wrap_at_32_bits():
+    m = TopModel(3, 16, dead_min=2)
+    m.events = [(1 << 32) - 1] * 3
+    m.total = (1 << 32) - 2
+    m.driver.legs[0].event = 1
+    m.driver.legs[2].event = 1
+    m.step()
+    assert m.events == [0, (1 << 32) - 1, 0] and m.total == 0
+
+
+@pytest.mark.parametrize(("period", "offset"), [(20, 0), (20, 5), (20, 19), (20, 20),
+                                                (20, 65535), (0, 3)])
+def test_adc_trigger_at_start_plus_one_plus_offset(period, offset):
+    m = TopModel(3, 16, dead_min=2)
+    bus = Master(m)
+    bus.write(regs.PERIOD, period)
+    bus.write(regs.ADC_OFFSET, offset)
+    outs = bus.run(200)
+    starts = [t for t, o in enumerate(outs) if o["sync_out"]]
+    p = max(period, m.latency)
+    assert set(np.diff(starts[1:])) == {p}
+    adc = [t for t, o in enumerate(outs) if o["adc_trigger"]]
+    want = [s + 1 + offset for s in starts if offset < p and s + 1 + offset < 200]
+    assert [t for t in adc if t > starts[1]] == [t for t in want if t > starts[1]]
+
+
+def test_fault_clear_through_cmd_and_status():
+    m = TopModel(3, 16, dead_min=2)
+    bus, _ = enable_and_run(m, 200)
+    assert m.driver.up | m.driver.lo
+    bus.tick(fault_in=1)
+    bus.run(3)
+    assert m.driver.up == 0 and m.driver.lo == 0
+    status = bus.read(regs.STATUS)
+    assert status & regs.STATUS_FAULT and not status & regs.STATUS_ACTIVE
+    bus.write(regs.CMD, regs.CMD_FAULT_CLEAR)
+    assert not bus.read(regs.STATUS) & regs.STATUS_FAULT
+    bus.run(40)
+    assert bus.read(regs.STATUS) & regs.STATUS_ACTIVE
+    assert bus.read(regs.GATES) != 0
+
+
+def test_fault_clear_while_the_input_is_active_is_ignored():
+    m = TopModel(3, 16, dead_min=2)
+    bus = Master(m, fault_in=1)
+    bus.run(4)
+    bus.write(regs.CMD, regs.CMD_FAULT_CLEAR)
+    assert bus.read(regs.STATUS) & (regs.STATUS_FAULT | regs.STATUS_FAULT_INPUT) == 3
+
+
+def test_polarity_at_reset():
+    m = TopModel(3, 16, dead_min=2, upper_active_low=True)
+    o = m.step()
+    assert o["upper"] == 0b111 and o["lower"] == 0
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"phases": 2}, "phases must be an integer in [3, 16] (the register map holds 16 legs), "
+                    "not 2"),
+    ({"phases": 17}, "phases must be an integer in [3, 16] (the register map holds 16 legs), "
+                     "not 17"),
+    ({"dead_min": 0}, "dead_min must be an integer in [1, 65535] (clocks), not 0"),
+    ({"upper_active_low": "no"}, "upper_active_low must be a bool, not 'no'"),
+])
+def test_rejects_bad_parameters(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        TopModel(**kwargs)
+    assert str(info.value) == message
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"wb_adr": 64}, "wb_adr must be an unsigned 6-bit integer, not 64"),
+    ({"wb_dat_w": -1}, "wb_dat_w must be an unsigned 32-bit integer, not -1"),
+    ({"wb_cyc": 2}, "wb_cyc must be 0 or 1, not 2"),
+    ({"fault_in": 3}, "fault_in must be 0 or 1, not 3"),
+])
+def test_rejects_bad_inputs(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        TopModel().step(**kwargs)
+    assert str(info.value) == message
+
+
+def test_docs_register_table_matches_the_map():
+    """Every row of the register table in docs/top.md: address, name, access, reset."""
+    text = DOCS.read_text()
+    rows = {}
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) >= 4 and re.fullmatch(r"0x[0-9A-F]{2}(\+i)?", cells[0]):
+            rows[int(cells[0][:4], 16)] = cells
+    assert sorted(rows) == sorted(r.address for r in REGISTERS)
+    for r in REGISTERS:
+        cells = rows[r.address]
+        assert cells[1].strip("`") == r.name, cells
+        assert cells[2] == r.access, cells
+        assert cells[3].strip("`") == r.reset, cells
+
+
+def test_docs_timing_diagram_is_current():
+    from mdfqm_model.top import timing_diagram
+
+    assert timing_diagram() in DOCS.read_text()
+
+
+def test_timing_diagram_shows_dead_time_and_adc_offset():
+    from mdfqm_model.top import timing_diagram
+
+    lines = {line[:17].strip(): line[17:] for line in timing_diagram().splitlines()[1:]}
+    s = lines["cycle"].index("s")
+    assert lines["sync_out"][s] == "‾"
+    assert lines["core.update"][s + 8] == "‾"
+    lower_off = lines["lower[0]"].index("_", s)
+    upper_on = lines["upper[0]"].index("‾", s)
+    assert (lower_off, upper_on) == (s + 9, s + 12)          # L + 1, L + 1 + DEAD
+    assert lines["adc_trigger"][s + 3] == "‾"                # s + 1 + ADC_OFFSET

@@ -1,0 +1,273 @@
+"""The drop-in top: MDFQM core + gate driver + Wishbone register file + switching counters +
+ADC trigger. Every bit on every clock follows :class:`mdfqm_model.top.TopModel`; the register
+map (addresses, bits, reset values, clamps) is imported from :mod:`mdfqm_model.top` and
+documented in ``docs/top.md``.
+"""
+
+from amaranth import Cat, Module, Mux, ResetSignal, Signal, signed
+from amaranth.hdl import Assert, Cover
+from amaranth.lib import data, stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from mdfqm_model import top as regmap
+from mdfqm_model.contract import loop_latency
+from mdfqm_model.driver import TIME_WIDTH, validate_dead_min
+from mdfqm_model.top import info_word, validate_top_phases
+
+from .bus import WishboneSignature
+from .core import MdfqmCore
+from .driver import GateDriver, validate_bool
+from .params import contract_for, validate_rule
+
+__all__ = ["MdfqmTop"]
+
+
+def _saturate(value, top: int):
+    return Mux(value > top, top, value)
+
+
+class MdfqmTop(wiring.Component):
+    """An N-phase MDFQM modulator with a safe gate driver, for a soft CPU or an FOC block.
+
+    Between the FOC loop (a reference per phase) and the gate-driver chip (an upper and a lower
+    gate per leg). Runtime settings live in a Wishbone classic register file
+    (``docs/top.md``: register map, clamps, timing of one update).
+
+    Ports
+    -----
+    wb : In(WishboneSignature(6))
+        Register bus, slave side: ``wb__cyc wb__stb wb__we wb__adr[5:0] wb__dat_w[31:0]
+        wb__sel[3:0]`` in, ``wb__dat_r[31:0] wb__ack`` out. ``ack`` is registered, one clock
+        after the request; ``dat_r`` is valid with it. ``sel`` is ignored.
+    ref : In(stream.Signature(ArrayLayout(signed(width), phases)))
+        Direct reference input for an FOC block in the same fabric (``ref__valid``,
+        ``ref__ready``, ``ref__payload``; ``2**(width-2)`` codes per Vdc). ``ready`` is
+        combinational from registers; it is low while a register-committed beat is pending (the
+        register beat wins).
+    fault_in : In(1)
+        Asynchronous, active-high fault (desaturation / over-current / driver fault). Two-flop
+        synchronised; every gate off one clock after the synchronised level is high; latched
+        until ``CMD.FAULT_CLEAR`` while the synchronised input is low.
+    sync_in : In(1)
+        Synchronous to ``clk``: another instance's ``sync_out`` (the core's ``sync_in``).
+    upper, lower : Out(phases)
+        Gate pins of each leg, registered, in the polarity of the parameters; reset: all off.
+    adc_trigger : Out(1)
+        Registered one-clock pulse in cycle ``s + 1 + ADC_OFFSET`` of each update (``s`` the
+        update start); none when ``ADC_OFFSET`` is not below the update period.
+    sync_out : Out(1)
+        High in the first clock of each update (the core's ``start``, combinational from
+        registers): wire it to the other instances' ``sync_in``.
+    fault : Out(1)
+        The fault latch (registered), for a LED or an interlock.
+
+    Parameters
+    ----------
+    phases : int in [3, 16]
+    width : int in [min_width(phases), 32]
+        Reference code width (see :class:`MdfqmCore`).
+    rule : "largest_duty" | "exact_nearest"
+    dead_min : int in [1, 65535]
+        Dead-time floor in clocks, fixed at elaboration: smaller ``DEAD`` writes store it, and
+        after a reset it is the dead time until software writes ``DEAD``. It must cover the
+        power stage's turn-off time.
+    upper_active_low, lower_active_low : bool
+        Pin polarity per side (fixed at elaboration: the reset level must already be "off").
+    formal : bool
+        Emit the safety ``Assert`` statements (not in the drop-in Verilog).
+
+    Attributes
+    ----------
+    latency : int
+        The core's loop latency (smallest update period) in clocks.
+    """
+
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
+                 dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
+                 lower_active_low: bool = False, formal: bool = False):
+        validate_top_phases(phases)
+        self.contract = contract_for(phases, width)
+        self.rule = validate_rule(rule)
+        self.dead_min = validate_dead_min(dead_min, TIME_WIDTH)
+        self.upper_active_low = validate_bool(upper_active_low, "upper_active_low")
+        self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")
+        self.formal = validate_bool(formal, "formal")
+        self.phases, self.width = phases, width
+        self.latency = loop_latency(phases, rule)
+        super().__init__({
+            "wb": In(WishboneSignature(regmap.ADDR_WIDTH)),
+            "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
+            "fault_in": In(1),
+            "sync_in": In(1),
+            "upper": Out(phases),
+            "lower": Out(phases),
+            "adc_trigger": Out(1),
+            "sync_out": Out(1),
+            "fault": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        n, c = self.phases, self.contract
+        m.submodules.core = core = MdfqmCore(n, self.width, self.rule)
+        assert core.latency == self.latency
+        m.submodules.driver = driver = GateDriver(
+            n, self.dead_min, TIME_WIDTH, self.upper_active_low, self.lower_active_low,
+            formal=self.formal)
+        wb = self.wb
+
+        # ---------------------------------------------------------------- registers
+        ctrl = Signal(2)
+        period = Signal(16, init=self.latency)
+        osr = Signal(8, init=1)
+        dead = Signal(16, init=self.dead_min)
+        min_pulse = Signal(16)
+        adc_offset = Signal(16)
+        ref_layout = data.ArrayLayout(signed(self.width), n)
+        ref_regs = Signal(ref_layout)
+        snapshot = Signal(ref_layout)
+        ref_pending = Signal()
+        events = Signal(data.ArrayLayout(regmap.COUNTER_WIDTH, n))
+        total = Signal(regmap.COUNTER_WIDTH)
+        adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
+        adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
+
+        # ---------------------------------------------------------------- bus
+        req = Signal()
+        wr = Signal()
+        cmd = Signal(3)
+        m.d.comb += [
+            req.eq(wb.cyc & wb.stb & ~wb.ack),
+            wr.eq(req & wb.we),
+            cmd.eq(Mux(wr & (wb.adr == regmap.CMD), wb.dat_w[:3], 0)),
+        ]
+        ref_commit = cmd[0]
+        fault_clear = cmd[1]
+        count_clear = cmd[2]
+
+        word = wb.dat_w
+        code = word.as_signed()
+        def written(address):
+            return wr & (wb.adr == address)
+
+        with m.If(written(regmap.CTRL)):
+            m.d.sync += ctrl.eq(word[:2])
+        with m.If(written(regmap.PERIOD)):
+            m.d.sync += period.eq(_saturate(word, 0xFFFF))
+        with m.If(written(regmap.OSR)):
+            m.d.sync += osr.eq(_saturate(word, 0xFF))
+        with m.If(written(regmap.DEAD)):
+            m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 0xFFFF)))
+        with m.If(written(regmap.MIN_PULSE)):
+            m.d.sync += min_pulse.eq(_saturate(word, 0xFFFF))
+        with m.If(written(regmap.ADC_OFFSET)):
+            m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF))
+        for i in range(n):
+            with m.If(written(regmap.REF_BASE + i)):
+                m.d.sync += ref_regs[i].eq(
+                    Mux(code < c.code_min, c.code_min, Mux(code > c.code_max, c.code_max, code)))
+
+        rd = Signal(32)
+        status = Cat(driver.fault, driver.fault_input, driver.active, ref_pending,
+                     core.saturated, core.period_clamped)
+        info = info_word(n, self.width, self.rule, self.upper_active_low,
+                         self.lower_active_low, self.latency)
+        with m.Switch(wb.adr):
+            with m.Case(regmap.ID):
+                m.d.comb += rd.eq(regmap.ID_VALUE)
+            with m.Case(regmap.INFO):
+                m.d.comb += rd.eq(info)
+            with m.Case(regmap.DEAD_MIN):
+                m.d.comb += rd.eq(self.dead_min)
+            with m.Case(regmap.CTRL):
+                m.d.comb += rd.eq(ctrl)
+            with m.Case(regmap.STATUS):
+                m.d.comb += rd.eq(status)
+            with m.Case(regmap.PERIOD):
+                m.d.comb += rd.eq(period)
+            with m.Case(regmap.OSR):
+                m.d.comb += rd.eq(osr)
+            with m.Case(regmap.DEAD):
+                m.d.comb += rd.eq(dead)
+            with m.Case(regmap.MIN_PULSE):
+                m.d.comb += rd.eq(min_pulse)
+            with m.Case(regmap.ADC_OFFSET):
+                m.d.comb += rd.eq(adc_offset)
+            with m.Case(regmap.EVENTS_TOTAL):
+                m.d.comb += rd.eq(total)
+            with m.Case(regmap.GATES):
+                m.d.comb += rd.eq(driver.up | (driver.lo << 16))
+            for i in range(n):
+                with m.Case(regmap.REF_BASE + i):
+                    m.d.comb += rd.eq(ref_regs[i])   # signed: sign-extended
+                with m.Case(regmap.EVENTS_BASE + i):
+                    m.d.comb += rd.eq(events[i])
+            with m.Default():
+                m.d.comb += rd.eq(0)
+        m.d.sync += [
+            wb.ack.eq(req),
+            wb.dat_r.eq(Mux(req & ~wb.we, rd, 0)),
+        ]
+
+        # ---------------------------------------------------------------- reference input
+        m.d.comb += [
+            core.ref.valid.eq(ref_pending | self.ref.valid),
+            core.ref.payload.eq(Mux(ref_pending, snapshot.as_value(),
+                                    self.ref.payload.as_value())),
+            self.ref.ready.eq(core.ref.ready & ~ref_pending),
+        ]
+        with m.If(ref_commit):
+            m.d.sync += [snapshot.eq(ref_regs), ref_pending.eq(1)]
+        with m.Elif(ref_pending & core.ref.ready):
+            m.d.sync += ref_pending.eq(0)
+
+        # ---------------------------------------------------------------- core and driver
+        m.d.comb += [
+            core.period.eq(period),
+            core.osr.eq(osr),
+            core.zero_policy.eq(ctrl[1]),
+            core.sync_in.eq(self.sync_in),
+            driver.h.eq(core.h),
+            driver.update.eq(core.update),
+            driver.enable.eq(ctrl[0]),
+            driver.dead.eq(dead),
+            driver.min_pulse.eq(min_pulse),
+            driver.fault_in.eq(self.fault_in),
+            driver.fault_clear.eq(fault_clear),
+            self.upper.eq(driver.upper),
+            self.lower.eq(driver.lower),
+            self.fault.eq(driver.fault),
+            self.sync_out.eq(core.start),
+        ]
+
+        # ---------------------------------------------------------------- switching counters
+        with m.If(count_clear):
+            m.d.sync += [events.eq(0), total.eq(0)]
+        with m.Else():
+            m.d.sync += [events[i].eq(events[i] + driver.event[i]) for i in range(n)]
+            m.d.sync += total.eq(total + sum(driver.event[i] for i in range(n)))
+
+        # ---------------------------------------------------------------- ADC trigger
+        elapsed = Signal(regmap.ADC_COUNTER_WIDTH)
+        m.d.comb += elapsed.eq(Mux(core.start, 0, adc_cnt))
+        m.d.sync += [
+            adc_cnt.eq(Mux(elapsed == adc_top, adc_top, elapsed + 1)),
+            self.adc_trigger.eq(elapsed == adc_offset),
+        ]
+
+        if self.formal:
+            self._properties(m, ctrl, dead, driver)
+        return m
+
+    def _properties(self, m, ctrl, dead, driver):
+        """Reset gives all off until enabled; the dead-time register never below the floor."""
+        enabled_since_reset = Signal()          # reset by the domain's reset
+        rst_prev = Signal(reset_less=True)
+        m.d.sync += [enabled_since_reset.eq(enabled_since_reset | ctrl[0]),
+                     rst_prev.eq(ResetSignal())]
+        all_off = (driver.up == 0) & (driver.lo == 0)
+        m.d.comb += [
+            Assert(enabled_since_reset | all_off | rst_prev, "gates on before any enable"),
+            Assert(dead >= self.dead_min, "DEAD below the floor"),
+            Cover(enabled_since_reset & ~all_off),
+        ]

@@ -1,0 +1,505 @@
+# amaranth: UnusedElaboratable=no
+"""The drop-in top (core + gate driver + Wishbone registers + counters + ADC trigger), every
+output on every clock, against mdfqm_model.top.TopModel; independent checks of the safety
+properties, the switching counters and the ADC trigger on the same traces; two instances sharing
+update boundaries through sync_out -> sync_in."""
+
+import math
+from collections import deque
+
+import cocotb
+import numpy as np
+import pytest
+from amaranth import Module
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from harness import check_cycles, pack, params, run_block, seeded_rng, start
+from mdfqm_gateware.top import MdfqmTop
+from mdfqm_model import top as regs
+from mdfqm_model.driver import check_gate_safety
+from mdfqm_model.top import TopModel
+
+# (phases, width, rule, dead_min, upper_active_low, lower_active_low)
+CASES = [(3, 16, "largest_duty", 3, False, False), (5, 16, "exact_nearest", 5, True, True)]
+SINGLE_TESTS = ["top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
+                "top_fault", "top_bad_input"]
+
+INPUTS = ("rst", "wb__cyc", "wb__stb", "wb__we", "wb__adr", "wb__dat_w", "wb__sel", "ref__valid",
+          "ref__payload", "fault_in", "sync_in")
+OUTPUTS = {"wb__ack": "wb_ack", "wb__dat_r": "wb_dat_r", "ref__ready": "ref_ready",
+           "upper": "upper", "lower": "lower", "adc_trigger": "adc_trigger",
+           "sync_out": "sync_out", "fault": "fault"}
+
+
+def make_model(p):
+    return TopModel(p["phases"], p["width"], p["rule"], p["dead_min"], p["upper_active_low"],
+                    p["lower_active_low"])
+
+
+class Bench:
+    """Closed-loop stimulus for one TopModel: a Wishbone master (one operation at a time, held
+    until ``ack``, idle gaps between), an FOC-like stream source (holds a beat until accepted,
+    idles at random), and the fault / sync inputs. Records the inputs and the expected outputs
+    of every cycle, and the independent-check traces."""
+
+    def __init__(self, rng, model, prefix=""):
+        self.rng, self.model, self.prefix = rng, model, prefix
+        self.n = model.phases
+        self.ops = deque()
+        self.current, self.gap = None, 0
+        self.offered = None
+        self.stim = {prefix + name: [] for name in INPUTS}
+        self.expected = {prefix + name: [] for name in OUTPUTS}
+        self.trace = {k: [] for k in ("up", "lo", "dead", "kill", "rst", "adc_offset",
+                                      "count_clear")}
+        self.reads = []          # (request cycle, address, value)
+        self.cycle = 0
+        self.angle, self.step_angle, self.amplitude = rng.uniform(0, 6.3), 0.02, 0.5
+
+    # ------------------------------------------------------------------ bus operations
+    def write(self, address, value):
+        self.ops.append((address, 1, value & 0xFFFFFFFF))
+
+    def read(self, address):
+        self.ops.append((address, 0, self.rng.getrandbits(32)))
+
+    def idle(self):
+        return self.current is None and not self.ops
+
+    def sine_beat(self):
+        c = self.model.contract
+        self.angle += self.step_angle
+        return [max(c.code_min, min(c.code_max, round(
+            self.amplitude * c.full * math.cos(self.angle - 2 * math.pi * i / self.n))))
+            for i in range(self.n)]
+
+    # ------------------------------------------------------------------ one clock
+    def tick(self, rst=0, fault_in=0, sync_in=0, stream=True, source_rate=0.6):
+        rng, m = self.rng, self.model
+        if self.current is None and self.gap == 0 and self.ops:
+            self.current = self.ops.popleft()
+        if self.offered is None and stream and rng.random() < source_rate:
+            self.offered = self.sine_beat()
+        adr, we, dat = self.current if self.current else (rng.randrange(64), rng.randint(0, 1),
+                                                          rng.getrandbits(32))
+        busy = int(self.current is not None)
+        inputs = {"rst": rst, "wb__cyc": busy, "wb__stb": busy, "wb__we": we, "wb__adr": adr,
+                  "wb__dat_w": dat, "wb__sel": rng.choice([0xF, 0xF, 0x1, 0x0]),
+                  "ref__valid": int(self.offered is not None),
+                  "ref__payload": self.offered or [0] * self.n, "fault_in": fault_in,
+                  "sync_in": sync_in}
+        t = self.trace
+        t["dead"].append(m.dead)
+        t["kill"].append(m.driver.fault_input)
+        t["rst"].append(rst)
+        t["adc_offset"].append(m.adc_offset)
+        t["count_clear"].append(int(bool(busy and we and adr == regs.CMD and not m.ack
+                                         and dat & regs.CMD_COUNT_CLEAR)))
+        t["up"].append(m.driver.up)
+        t["lo"].append(m.driver.lo)
+        out = m.step(rst=rst, wb_cyc=busy, wb_stb=busy, wb_we=we, wb_adr=adr, wb_dat_w=dat,
+                     wb_sel=inputs["wb__sel"], ref_valid=inputs["ref__valid"],
+                     ref=inputs["ref__payload"], fault_in=fault_in, sync_in=sync_in)
+        if inputs["ref__valid"] and out["ref_ready"] and not rst:
+            self.offered = None
+        if self.current is not None and out["wb_ack"]:
+            if not we:
+                self.reads.append((self.cycle - 1, adr, out["wb_dat_r"]))
+            self.current = None
+            self.gap = rng.choice([0, 0, 1, 2])
+        elif self.current is None and self.gap:
+            self.gap -= 1
+        if rst:
+            self.current, self.gap = None, 0
+        for name, value in inputs.items():
+            if name == "ref__payload":
+                value = pack(value, m.width)
+            self.stim[self.prefix + name].append(value)
+        for port, key in OUTPUTS.items():
+            self.expected[self.prefix + port].append(out[key])
+        self.cycle += 1
+        return out
+
+    def run_until_idle(self, limit=10000, **kw):
+        for _ in range(limit):
+            if self.idle():
+                return
+            self.tick(**kw)
+        raise AssertionError("bus operations did not complete")
+
+    # ------------------------------------------------------------------ independent checks
+    def check_safety(self, dt_run0):
+        up, lo = np.array(self.trace["up"]), np.array(self.trace["lo"])
+        dead = np.maximum(np.array(self.trace["dead"]), self.model.dead_min)
+        return check_gate_safety(up, lo, self.n, dead=dead, kill=self.trace["kill"],
+                                 rst=self.trace["rst"], dt_run0=dt_run0)
+
+
+#: The model carried from one cocotb test to the next of the same simulation (the gate driver's
+#: dead-time memory and the fault synchroniser are not reset, by design). A failing test can make
+#: later tests of the same run fail too; the first failure is the real one.
+CARRY = {}
+
+
+def begin(p, rng, key="single", prefix=""):
+    """A Bench on the carried model, stepped through the reset cycles of :func:`harness.start`."""
+    if key not in CARRY:
+        CARRY[key] = (make_model(p), None)
+    model, last = CARRY[key]
+    for _ in range(2):
+        if last is None:
+            model.step(rst=1)
+        else:
+            model.step(**last, rst=1)
+    bench = Bench(rng, model, prefix)
+    bench.dt_run0 = [leg.dt_run for leg in model.driver.legs]
+    return bench
+
+
+def finish(bench, key="single"):
+    s, px = bench.stim, bench.prefix
+    last = {"wb_cyc": s[px + "wb__cyc"][-1], "wb_stb": s[px + "wb__stb"][-1],
+            "wb_we": s[px + "wb__we"][-1], "wb_adr": s[px + "wb__adr"][-1],
+            "wb_dat_w": s[px + "wb__dat_w"][-1], "fault_in": s[px + "fault_in"][-1],
+            "sync_in": s[px + "sync_in"][-1]}
+    CARRY[key] = (bench.model, last)
+    return bench.check_safety(bench.dt_run0)
+
+
+def configure(b, period, dead, min_pulse=0, osr=1, adc_offset=0, ctrl=regs.CTRL_ENABLE):
+    b.write(regs.PERIOD, period)
+    b.write(regs.OSR, osr)
+    b.write(regs.DEAD, dead)
+    b.write(regs.MIN_PULSE, min_pulse)
+    b.write(regs.ADC_OFFSET, adc_offset)
+    b.write(regs.CMD, regs.CMD_FAULT_CLEAR | regs.CMD_COUNT_CLEAR)
+    b.write(regs.CTRL, ctrl)
+
+
+async def run_bench(dut, name, build):
+    """Generate with ``build(bench)``, then drive the DUT and compare every cycle."""
+    p = params()
+    rng = seeded_rng(dut, name)
+    bench = begin(p, rng)
+    build(bench, rng, p)
+    turn_ons = finish(bench)
+    await start(dut)
+    checked = await check_cycles(dut, bench.stim, bench.expected)
+    dut._log.info("%s: %d cycles, %d turn-ons, every output equal to the model", name,
+                  checked, turn_ons)
+    return bench
+
+
+# ---------------------------------------------------------------------- scenarios
+
+
+def build_operate(b, rng, p):
+    """Sine references through the direct stream port; settings moving while running."""
+    configure(b, period=24, dead=4, osr=2, adc_offset=5)
+    for round_ in range(40):
+        if round_ % 5 == 0:
+            b.write(regs.PERIOD, rng.choice([0, 12, 24, 40]))
+            b.write(regs.DEAD, rng.choice([0, 2, 6, 11]))           # changed while running
+            b.write(regs.MIN_PULSE, rng.choice([0, 3, 15]))
+            b.write(regs.CTRL, rng.choice([1, 1, 3, 0, 2]))         # enable toggled mid-update
+            b.amplitude = rng.uniform(0.1, 0.6)
+        for address in (regs.STATUS, regs.GATES, regs.EVENTS_TOTAL, regs.CTRL, regs.DEAD):
+            b.read(address)
+        b.run_until_idle()
+        for _ in range(rng.randint(50, 250)):
+            b.tick()
+
+
+def build_register_reference(b, rng, p):
+    """References written to REF[i] and committed through CMD; the stream port also offering
+    beats at times (the committed register beat wins)."""
+    configure(b, period=20, dead=3, osr=1)
+    c = b.model.contract
+    for k in range(60):
+        values = b.sine_beat() if k % 3 else [rng.choice([c.code_min, c.code_max, 0, -1])
+                                              for _ in range(b.n)]
+        for i, v in enumerate(values):
+            b.write(regs.REF_BASE + i, v)
+        if k % 7 == 0:                              # out of range: saturates
+            b.write(regs.REF_BASE + rng.randrange(b.n), rng.choice([1 << 31, (1 << 31) - 1]))
+        b.write(regs.CMD, regs.CMD_REF_COMMIT)
+        if k % 4 == 0:
+            b.write(regs.CMD, regs.CMD_REF_COMMIT)        # a second commit while pending
+        b.read(regs.STATUS)
+        b.read(regs.REF_BASE + rng.randrange(b.n))
+        both = k % 5 == 0
+        b.run_until_idle(stream=both)
+        for _ in range(rng.randint(20, 90)):
+            b.tick(stream=both)
+
+
+def build_counters(b, rng, p):
+    """Switching counters against the gate trace: every read of EVENTS[i] / EVENTS_TOTAL equals
+    the number of turn-ons seen on the gates since the last clear."""
+    configure(b, period=16, dead=2, osr=1)
+    for round_ in range(30):
+        for i in range(b.n):
+            b.read(regs.EVENTS_BASE + i)
+        b.read(regs.EVENTS_TOTAL)
+        if round_ % 6 == 5:
+            b.write(regs.CMD, regs.CMD_COUNT_CLEAR)
+        b.run_until_idle()
+        for _ in range(rng.randint(30, 200)):
+            b.tick()
+    # independent count: turn-on edges on the recorded gates
+    up, lo = np.array(b.trace["up"]), np.array(b.trace["lo"])
+    checked = 0
+    for cycle, address, value in b.reads:
+        last_clear = max([t for t in range(cycle) if b.trace["count_clear"][t]], default=-1)
+        legs = (range(b.n) if address == regs.EVENTS_TOTAL
+                else [address - regs.EVENTS_BASE] if address >= regs.EVENTS_BASE else [])
+        count = 0
+        for leg in legs:
+            on = ((up >> leg) | (lo >> leg)) & 1
+            lo_t = max(last_clear + 1, 1)
+            count += int(np.sum(on[lo_t:cycle] & ~on[lo_t - 1:cycle - 1] & 1))
+        if legs:
+            assert value == count, (cycle, address, value, count)
+            checked += 1
+    assert checked > 50
+
+
+def build_adc_trigger(b, rng, p):
+    """The ADC trigger at s + 1 + ADC_OFFSET of every update; none when ADC_OFFSET >= P."""
+    for period, offset in ((20, 0), (20, 7), (20, 19), (20, 20), (33, 31), (0, 3)):
+        b.write(regs.PERIOD, period)
+        b.write(regs.ADC_OFFSET, offset)
+        b.write(regs.CTRL, regs.CTRL_ENABLE)
+        b.run_until_idle()
+        first = b.cycle
+        for _ in range(6 * max(period, b.model.latency) + 3):
+            b.tick()
+        p_eff = max(period, b.model.latency)
+        sync = np.array(b.expected["sync_out"][first:])
+        adc = np.array(b.expected["adc_trigger"][first:])
+        starts = np.flatnonzero(sync)
+        assert (np.diff(starts[1:]) == p_eff).all()
+        want = np.zeros_like(adc)
+        if offset < p_eff:
+            for s in starts:
+                if s + 1 + offset < len(want):
+                    want[s + 1 + offset] = 1
+        lo = starts[1]
+        assert (adc[lo:] == want[lo:]).all(), (period, offset)
+
+
+def build_fault(b, rng, p):
+    """Fault chatter on the pin, clears through CMD while active and after; status reads."""
+    configure(b, period=18, dead=4)
+    b.run_until_idle()
+    chatter = 0
+    for _ in range(5000):
+        if rng.random() < 0.004:
+            chatter = rng.choice([1, 2, 7, 30])
+        fault_in = 0
+        if chatter:
+            chatter -= 1
+            fault_in = rng.randint(0, 1) if chatter > 1 else 1
+        if b.idle() and rng.random() < 0.05:
+            b.write(regs.CMD, regs.CMD_FAULT_CLEAR)
+            b.read(regs.STATUS)
+        b.tick(fault_in=fault_in)
+
+
+def build_bad_input(b, rng, p):
+    """Any value to any register, in any order, with resets, faults and sync pulses at random:
+    the gates stay safe. For most of the run the timing registers get small values (below the
+    floor, 0, 1, ...) so that the legs keep switching and the dead-time checks have work; in the
+    last part every register also gets the extremes (0xFFFFFFFF, 0x80000000, 0x10000, ...)."""
+    extremes = [0, 1, 2, 0x7FFF, 0x8000, 0xFFFF, 0x10000, 0x7FFFFFFF, 0x80000000, 0xFFFFFFFF]
+    timing = (regs.DEAD, regs.MIN_PULSE, regs.PERIOD, regs.ADC_OFFSET, regs.OSR)
+    cycles = 9000
+    for cycle in range(cycles):
+        late = cycle > cycles * 0.8
+        if b.idle() and rng.random() < 0.3:
+            address = rng.randrange(1 << regs.ADDR_WIDTH)
+            if rng.random() < 0.6:
+                address = rng.choice([regs.CTRL, regs.CMD, *timing, regs.REF_BASE])
+            value = rng.choice([*extremes, rng.getrandbits(32), rng.randrange(40)])
+            if address in timing and not late:
+                value = rng.choice([0, 1, 2, rng.randrange(16), rng.randrange(40)])
+            if address == regs.CTRL and rng.random() < 0.7:
+                value |= regs.CTRL_ENABLE
+            if address == regs.CMD and rng.random() < 0.7:
+                value &= ~regs.CMD_COUNT_CLEAR
+            if rng.random() < 0.5:
+                b.write(address, value)
+            else:
+                b.read(address)
+        b.tick(rst=int(rng.random() < 0.0005), fault_in=int(rng.random() < 0.0008),
+               sync_in=int(rng.random() < 0.03))
+
+
+@cocotb.test()
+async def top_operate(dut):
+    """Direct-port sine, settings (period, dead time, min pulse, enable) changed while running."""
+    await run_bench(dut, "top_operate", build_operate)
+
+
+@cocotb.test()
+async def top_register_reference(dut):
+    """REF[i] + CMD.REF_COMMIT, saturating writes, double commits, the port competing."""
+    await run_bench(dut, "top_register_reference", build_register_reference)
+
+
+@cocotb.test()
+async def top_counters(dut):
+    """EVENTS[i] / EVENTS_TOTAL against the turn-ons on the gates, with clears."""
+    await run_bench(dut, "top_counters", build_counters)
+
+
+@cocotb.test()
+async def top_adc_trigger(dut):
+    """ADC trigger position against the update starts, offsets inside and outside the period."""
+    await run_bench(dut, "top_adc_trigger", build_adc_trigger)
+
+
+@cocotb.test()
+async def top_fault(dut):
+    """Fault chatter through the pin, clears and status reads through the bus."""
+    await run_bench(dut, "top_fault", build_fault)
+
+
+@cocotb.test()
+async def top_bad_input(dut):
+    """Random addresses and values, resets, faults and sync pulses: the gates stay safe."""
+    await run_bench(dut, "top_bad_input", build_bad_input)
+
+
+@pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low"), CASES)
+def test_top(phases, width, rule, dead_min, upper_low, lower_low):
+    run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low),
+              "mdfqm_top", "test_top",
+              {"phases": phases, "width": width, "rule": rule, "dead_min": dead_min,
+               "upper_active_low": upper_low, "lower_active_low": lower_low},
+              testcase=SINGLE_TESTS)
+
+
+# ---------------------------------------------------------------------- two instances
+
+
+class TopPair(wiring.Component):
+    """Two tops sharing update boundaries: ``a.sync_out`` drives ``b``'s core ``sync_in``
+    (the ``b__sync_in`` port is left unconnected); every other port is brought out."""
+
+    def __init__(self, **kwargs):
+        self.top_a, self.top_b = MdfqmTop(**kwargs), MdfqmTop(**kwargs)
+        signature = self.top_a.signature
+        super().__init__({"a": Out(signature), "b": Out(signature)})
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.a = a = self.top_a
+        m.submodules.b = b = self.top_b
+        for top, outer in ((a, self.a), (b, self.b)):
+            inner_ports = top.signature.flatten(top)
+            outer_ports = top.signature.flatten(outer)
+            for (path, member, inner), (_, _, port) in zip(inner_ports, outer_ports, strict=True):
+                if top is b and path == ("sync_in",):
+                    m.d.comb += inner.eq(a.sync_out)
+                elif member.flow == In:
+                    m.d.comb += inner.eq(port)
+                else:
+                    m.d.comb += port.eq(inner)
+        return m
+
+
+@cocotb.test()
+async def top_pair_sync(dut):
+    """Instance b follows a's update boundaries one clock later, whatever its own period (as
+    long as it is not shorter); the ADC triggers follow too."""
+    p = params()
+    rng = seeded_rng(dut, "top_pair_sync")
+    a = begin(p, rng, "a", "a__")
+    b = begin(p, rng, "b", "b__")
+    latency = a.model.latency
+    for phase in range(4):
+        period_a = rng.choice([latency, 20, 31])
+        period_b = period_a + rng.choice([0, 1, 9, 40])       # b's own period: never shorter
+        offset = rng.randrange(period_a)
+        configure(a, period=period_a, dead=3, adc_offset=offset)
+        configure(b, period=period_b, dead=5, adc_offset=offset)
+        settle = None
+        for cycle in range(2500):
+            if a.idle() and b.idle() and settle is None:
+                settle = a.cycle + 2 * period_b + 2
+            out_a = a.tick(sync_in=int(phase == 3 and rng.random() < 0.02))
+            b.tick(sync_in=out_a["sync_out"])
+            if cycle % 500 == 499:
+                for bench in (a, b):
+                    bench.read(regs.EVENTS_TOTAL)
+        sa = np.array(a.expected["a__sync_out"][settle:])
+        sb = np.array(b.expected["b__sync_out"][settle:])
+        assert (sb[1:] == sa[:-1]).all() and sa.sum() > 10, "b does not follow a"
+        aa = np.array(a.expected["a__adc_trigger"][settle:])
+        ab = np.array(b.expected["b__adc_trigger"][settle:])
+        assert (ab[1:] == aa[:-1]).all() and aa.sum() > 10, "ADC triggers not aligned"
+    turn_ons = finish(a, "a") + finish(b, "b")
+    stim = {**a.stim, **b.stim}
+    stim["rst"] = a.stim["a__rst"]
+    del stim["a__rst"], stim["b__rst"]
+    await start(dut)
+    checked = await check_cycles(dut, stim, {**a.expected, **b.expected})
+    dut._log.info("top_pair_sync: %d cycles, %d turn-ons, every output of both instances equal "
+                  "to the models", checked, turn_ons)
+
+
+def test_top_pair():
+    phases, width, dead_min = 3, 12, 2
+    run_block(lambda: TopPair(phases=phases, width=width, dead_min=dead_min), "mdfqm_top_pair",
+              "test_top", {"phases": phases, "width": width, "rule": "largest_duty",
+                           "dead_min": dead_min, "upper_active_low": False,
+                           "lower_active_low": False},
+              testcase="top_pair_sync")
+
+
+# ---------------------------------------------------------------------- parameters
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"phases": 2}, "phases must be an integer in [3, 16] (the register map holds 16 legs), "
+                    "not 2"),
+    ({"phases": 17}, "phases must be an integer in [3, 16] (the register map holds 16 legs), "
+                     "not 17"),
+    ({"width": 7}, "width must be an integer in [8, 32] for 3 phases "
+                   "(FULL = 2**(width-2) >= 16 * phases), not 7"),
+    ({"rule": "nearest"}, "rule must be one of ('largest_duty', 'exact_nearest'), not 'nearest'"),
+    ({"dead_min": 0}, "dead_min must be an integer in [1, 65535] (clocks), not 0"),
+    ({"dead_min": 65536}, "dead_min must be an integer in [1, 65535] (clocks), not 65536"),
+    ({"upper_active_low": 1}, "upper_active_low must be a bool, not 1"),
+    ({"lower_active_low": "low"}, "lower_active_low must be a bool, not 'low'"),
+    ({"formal": None}, "formal must be a bool, not None"),
+])
+def test_top_rejects_bad_parameters(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        MdfqmTop(**kwargs)
+    assert str(info.value) == message
+
+
+def test_top_formal_build_differs_only_by_properties():
+    from amaranth.back import verilog
+
+    plain = verilog.convert(MdfqmTop(3, 16), name="t", emit_src=False)
+    assert "assert" not in plain
+    assert "assert" in verilog.convert(MdfqmTop(3, 16, formal=True), name="t", emit_src=False)
+
+
+def test_docs_port_table_matches_the_signature():
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "top.md").read_text()
+    documented = []
+    for line in text.split("## Ports", 1)[1].split("## Register map", 1)[0].splitlines():
+        cells = [c.strip().strip("`") for c in line.strip().strip("|").split("|")]
+        if len(cells) == 4 and cells[1] in ("in", "out"):
+            documented.append((cells[0], cells[1]))
+    top = MdfqmTop(3, 16)
+    ports = [("__".join(map(str, path)), "in" if member.flow == In else "out")
+             for path, member, _ in top.signature.flatten(top)]
+    assert sorted(documented) == sorted([("clk", "in"), ("rst", "in"), *ports])
