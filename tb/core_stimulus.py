@@ -1,0 +1,99 @@
+"""Closed-loop stimulus for the whole core, shared by the per-cycle cocotb tests
+(tb/test_core.py) and the vector-file regression and soak (tb/test_core_vectors.py, tb/soak.py).
+
+The stream source reacts to the model's ``ready`` like a real producer (it holds valid and
+payload until accepted and idles at random); because every cycle's ``ready`` is also compared
+with the gateware's, the gateware sees exactly this stimulus.
+"""
+
+import math
+
+from harness import pack
+from mdfqm_model.clock import CoreModel
+
+#: every scenario generate() knows
+SCENARIOS = ("sine", "overmod", "runtime", "ties", "extremes")
+
+OUTPUTS = {"ref__ready": "ref_ready", "start": "start", "h": "h", "update": "update",
+           "sample": "sample", "saturated": "saturated", "period_clamped": "period_clamped"}
+
+
+def sine_codes(contract, amplitude, angle, offset=0):
+    """Phase references of a balanced N-phase sine, ``amplitude`` in Vdc, plus a common mode."""
+    n = contract.phases
+    codes = []
+    for i in range(n):
+        value = amplitude * math.cos(angle - 2 * math.pi * i / n) + offset
+        codes.append(max(contract.code_min,
+                         min(contract.code_max, round(value * contract.full))))
+    return codes
+
+
+def linear_amplitude(phases):
+    """Largest sine amplitude (Vdc) inside the linear range max(v) - min(v) <= 1."""
+    spread = max(math.cos(2 * math.pi * i / phases) for i in range(phases)) - min(
+        math.cos(2 * math.pi * i / phases) for i in range(phases))
+    return 1 / spread
+
+
+def generate(rng, scenario, contract, rule, cycles):
+    """Closed-loop stimulus: a stream source that reacts to the model's ``ready`` like a real
+    producer (holds valid and payload until accepted, idles at random) and the runtime settings
+    of ``scenario``. Returns (inputs per cycle, expected outputs per cycle)."""
+    model = CoreModel(contract.phases, contract.width, rule)
+    latency = model.latency
+    n = contract.phases
+    lin = linear_amplitude(n)
+    period, osr, policy = latency, 4, 0
+    angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
+    amplitude, offset = 0.9 * lin, 0.0
+    offered = None
+    stim = {"rst": [], "ref__valid": [], "ref__payload": [], "period": [], "osr": [],
+            "zero_policy": [], "sync_in": []}
+    expected = {name: [] for name in OUTPUTS}
+    for cycle in range(cycles):
+        rst = 0
+        if cycle % 997 == 0:                              # runtime settings move
+            if scenario in ("sine", "runtime"):
+                period = rng.choice([latency, latency, latency + 1, 2 * latency + 3])
+                osr = rng.choice([1, 2, 4, 4])
+                policy = rng.randint(0, 1)
+                amplitude = rng.uniform(0.05, 1.0) * lin
+            if scenario == "runtime":
+                period = rng.choice([0, 1, latency - 1, latency, latency + 5, 65535 % 50])
+                osr = rng.choice([0, 1, 3, 255 % 7])
+            if scenario == "overmod":
+                amplitude = rng.uniform(1.0, 2.0) * lin
+                offset = rng.uniform(-0.5, 0.5)
+                policy = rng.randint(0, 1)
+        if scenario == "runtime" and rng.random() < 0.002:
+            rst = 1                                       # reset mid-run
+        if offered is None and rng.random() < 0.7:       # idle gaps between beats
+            angle += step
+            if scenario == "extremes":
+                offered = [rng.choice([contract.code_min, contract.code_max, 0, -1, 1])
+                           for _ in range(n)]
+            elif scenario == "ties":
+                level = rng.randint(contract.code_min, contract.code_max)
+                offered = [rng.choice([level, -level // 2, 0]) for _ in range(n)]
+            else:
+                offered = sine_codes(contract, amplitude, angle, offset)
+            if scenario in ("ties", "extremes"):
+                policy = rng.randint(0, 1)
+        sync_in = int(scenario == "runtime" and rng.random() < 0.05)
+        valid = int(offered is not None)
+        payload = offered or [0] * n
+        out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
+                         zero_policy=policy, sync_in=sync_in)
+        if valid and out["ref_ready"] and not rst:
+            offered = None
+        stim["rst"].append(rst)
+        stim["ref__valid"].append(valid)
+        stim["ref__payload"].append(pack(payload, contract.width))
+        stim["period"].append(period)
+        stim["osr"].append(osr)
+        stim["zero_policy"].append(policy)
+        stim["sync_in"].append(sync_in)
+        for port, key in OUTPUTS.items():
+            expected[port].append(out[key])
+    return stim, expected
