@@ -246,40 +246,108 @@ class ButtonsModel:
         return out
 
 
-class DemoModel:
-    """:class:`mdfqm_gateware.demo.design.DemoDesign` (fallback modulator): ``step(uart_rx,
-    buttons, fault_in)`` returns the pins of this cycle, then advances every block one clock.
+class ArbiterModel:
+    """:class:`mdfqm_gateware.demo.arbiter.WishboneArbiter`: ``step(m0_cyc, m1_cyc)``."""
 
-    The blocks' models exchange only values visible in the current cycle (every signal between
-    blocks is registered or combinational from registers), so each block's outputs are taken
-    first and then every block steps."""
+    def __init__(self):
+        self.owner = 0
+
+    def step(self, m0_cyc=0, m1_cyc=0) -> int:
+        owner = self.owner
+        if not (m1_cyc if owner else m0_cyc):
+            if m1_cyc:
+                self.owner = 1
+            elif m0_cyc:
+                self.owner = 0
+        return owner
+
+
+class SequencerModel:
+    """:class:`mdfqm_gateware.demo.sequencer.BusSequencer`:
+    ``step(ack, dat_r, enable_toggle, fault_clear)``."""
+
+    def __init__(self, init, ctrl_addr, enable_mask, clear_addr, clear_value):
+        self.init = list(init)
+        self.ctrl_addr, self.enable_mask = ctrl_addr, enable_mask
+        self.clear_addr, self.clear_value = clear_addr, clear_value
+        self.state, self.index, self.toggle, self.clear, self.ctrl = "IDLE", 0, 0, 0, 0
+        self.cyc = self.we = self.adr = self.dat_w = 0
+
+    def outputs(self) -> dict:
+        busy = self.index != len(self.init) if self.state == "IDLE" else True
+        return {"cyc": self.cyc, "stb": self.cyc, "we": self.we, "adr": self.adr,
+                "dat_w": self.dat_w, "busy": int(busy)}
+
+    def _access(self, we, adr, dat=0):
+        self.cyc, self.we, self.adr, self.dat_w = 1, we, adr, dat
+
+    def step(self, ack=0, dat_r=0, enable_toggle=0, fault_clear=0) -> dict:
+        out = self.outputs()
+        taken_toggle = taken_clear = 0
+        if self.state == "IDLE":
+            if self.index != len(self.init):
+                self._access(1, *self.init[self.index])
+                self.index += 1
+                self.state = "WRITE"
+            elif self.toggle:
+                taken_toggle = 1
+                self._access(0, self.ctrl_addr)
+                self.state = "READ_CTRL"
+            elif self.clear:
+                taken_clear = 1
+                self._access(1, self.clear_addr, self.clear_value)
+                self.state = "WRITE"
+        elif self.state == "READ_CTRL":
+            if ack:
+                self.cyc, self.ctrl = 0, dat_r ^ self.enable_mask
+                self.state = "WRITE_CTRL"
+        elif self.state == "WRITE_CTRL":
+            self._access(1, self.ctrl_addr, self.ctrl)
+            self.state = "WRITE"
+        elif ack:                                    # WRITE
+            self.cyc, self.state = 0, "IDLE"
+        self.toggle = int((self.toggle and not taken_toggle) or enable_toggle)
+        self.clear = int((self.clear and not taken_clear) or fault_clear)
+        return out
+
+
+class DemoModel:
+    """:class:`mdfqm_gateware.demo.design.DemoDesign`: ``step(uart_rx, buttons, fault_in)``
+    returns the pins of this cycle, then advances every block one clock.
+
+    Every signal between blocks is registered or combinational from registers (the decoder and
+    the arbiter's multiplexers are evaluated here), so each block's outputs of the cycle are
+    taken first and then every block steps."""
 
     def __init__(self, config):
-        from mdfqm_gateware.demo.regmap import DEMO_ID, demo_window, modulator_window
-        from mdfqm_model.clock import CoreModel
-        from mdfqm_model.driver import GateDriverModel
+        from mdfqm_gateware.demo.regmap import DEMO_ID, TOP_BASE, demo_window
+        from mdfqm_model import top as top_map
         from mdfqm_model.nco import NcoModel
+        from mdfqm_model.top import TopModel
 
         c = self.config = config
         self.n = n = c.phases
         self.urx, self.utx = UartRxModel(c.divider), UartTxModel(c.divider)
         self.bridge = BridgeModel(16, c.bus_timeout, c.frame_timeout)
+        self.seq = SequencerModel(c.top_init, TOP_BASE + top_map.CTRL, top_map.CTRL_ENABLE,
+                                  TOP_BASE + top_map.CMD, top_map.CMD_FAULT_CLEAR)
+        self.arbiter = ArbiterModel()
         self.demo_window = demo_window(n, c.width, c.acc_bits)
-        self.mod_window = modulator_window(c.time_width)
         self.demo = RegisterBankModel(self.demo_window, c.demo_init)
-        self.mod = RegisterBankModel(self.mod_window, c.modulator_init)
         self.nco = NcoModel(n, c.width, c.acc_bits, c.table_bits, c.sample_width)
-        self.core = CoreModel(n, c.width)
-        self.driver = GateDriverModel(n, c.dead_min, c.time_width)
+        self.top = TopModel(n, c.width, dead_min=c.dead_min)
+        self.top_base, self.top_width = TOP_BASE, top_map.ADDR_WIDTH
         self.buttons = ButtonsModel(len(c.buttons), c.debounce) if c.buttons else None
         self.cycles, self.switches = 0, [0] * n
         self.snap_cycles, self.snap = 0, [0] * n
+        self.upper_prev = self.lower_prev = 0
+        self.led_active = 0
         self.constants = {"ID": DEMO_ID, "INFO": c.info, "CLK_HZ": c.clk_hz}
 
     def pins(self) -> dict:
-        d = self.driver.outputs()
+        d = self.top.driver.outputs()
         return {"uart_tx": self.utx.tx, "upper": d["upper"], "lower": d["lower"],
-                "led_active": d["active"], "led_fault": d["fault"] | d["fault_input"],
+                "led_active": self.led_active, "led_fault": d["fault"],
                 "heartbeat": (self.cycles >> self.config.heartbeat_bit) & 1,
                 "trigger": self.nco.acc >> (self.config.acc_bits - 1)}
 
@@ -287,24 +355,28 @@ class DemoModel:
         c, n = self.config, self.n
         pins = self.pins()
         urx, br, utx = self.urx.outputs(), self.bridge.outputs(), self.utx.outputs()
-        demo, mod = self.demo.outputs(), self.mod.outputs()
-        nco, core, drv = self.nco.outputs(), self.core.outputs(), self.driver.outputs()
+        seq, owner = self.seq.outputs(), self.arbiter.owner
+        demo, nco = self.demo.outputs(), self.nco.outputs()
         btn = self.buttons.outputs() if self.buttons else {"state": 0, "pressed": 0}
         pressed = {a: (btn["pressed"] >> i) & 1 for i, a in enumerate(c.buttons)}
 
-        # the decoder
-        adr = br["adr"]
-        hit_mod = adr >> self.mod_window.addr_width == self.mod_window.base >> \
-            self.mod_window.addr_width
-        hit_demo = adr >> self.demo_window.addr_width == self.demo_window.base >> \
-            self.demo_window.addr_width
-        ack = int((mod["ack"] and hit_mod) or (demo["ack"] and hit_demo))
-        dat_r = (mod["dat_r"] if hit_mod else 0) | (demo["dat_r"] if hit_demo else 0)
+        # arbiter and decoder (combinational)
+        bus = seq if owner else br
+        adr = bus["adr"]
+        hit_top = adr >> self.top_width == self.top_base >> self.top_width
+        dw = self.demo_window
+        hit_demo = adr >> dw.addr_width == dw.base >> dw.addr_width
+        ack = int((self.top.ack and hit_top) or (demo["ack"] and hit_demo))
+        dat_r = (self.top.dat_r if hit_top else 0) | (demo["dat_r"] if hit_demo else 0)
+        ref_ready = self.top.ref_ready
 
         self.urx.step(rx=uart_rx, ready=br["rx_ready"])
         self.bridge.step(rx_valid=urx["valid"], rx_payload=urx["payload"], tx_ready=utx["ready"],
-                         ack=ack, dat_r=dat_r)
+                         ack=ack and not owner, dat_r=dat_r)
         self.utx.step(valid=br["tx_valid"], payload=br["tx_payload"])
+        self.seq.step(ack=ack and owner, dat_r=dat_r, enable_toggle=pressed.get("enable", 0),
+                      fault_clear=pressed.get("fault_clear", 0))
+        self.arbiter.step(m0_cyc=br["cyc"], m1_cyc=seq["cyc"])
 
         freq, amp = demo["NCO_FREQ"], demo["NCO_AMP"]
         freq_top, amp_top = _mask(c.acc_bits), _mask(c.width - 1)
@@ -318,31 +390,24 @@ class DemoModel:
                         else max(amp - step, 0)),
         }
         ro = dict(self.constants, NCO_PHASE=nco["phase"], CYCLES=self.snap_cycles,
-                  BUTTONS=btn["state"],
-                  **{f"SWITCHES_{i}": self.snap[i] for i in range(n)})
-        bus = {"cyc": br["cyc"], "stb": br["stb"], "we": br["we"], "dat_w": br["dat_w"]}
-        self.demo.step(**{**bus, "cyc": br["cyc"] and hit_demo, "stb": br["stb"] and hit_demo},
-                       adr=adr & _mask(self.demo_window.addr_width), ro=ro, sets=sets)
-        ctrl = mod["CTRL"]
-        status = (drv["active"] | drv["fault"] << 1 | drv["fault_input"] << 2
-                  | core["saturated"] << 3 | core["period_clamped"] << 4)
-        self.mod.step(**{**bus, "cyc": br["cyc"] and hit_mod, "stb": br["stb"] and hit_mod},
-                      adr=adr & _mask(self.mod_window.addr_width),
-                      ro={"STATUS": status, "DEAD_MIN": c.dead_min},
-                      sets={"CTRL": (drv["fault"] | pressed.get("enable", 0),
-                                     ctrl & ~1 if drv["fault"] else ctrl ^ 1)})
+                  BUTTONS=btn["state"], **{f"SWITCHES_{i}": self.snap[i] for i in range(n)})
+        self.demo.step(cyc=bus["cyc"] and hit_demo, stb=bus["stb"] and hit_demo, we=bus["we"],
+                       adr=adr & _mask(dw.addr_width), dat_w=bus["dat_w"], ro=ro, sets=sets)
+        self.nco.step(freq=freq, amplitude=amp, ready=ref_ready)
+        self.top.step(wb_cyc=int(bool(bus["cyc"] and hit_top)),
+                      wb_stb=int(bool(bus["stb"] and hit_top)), wb_we=bus["we"],
+                      wb_adr=adr & _mask(self.top_width), wb_dat_w=bus["dat_w"],
+                      ref_valid=nco["valid"], ref=nco["payload"], fault_in=fault_in)
 
-        self.nco.step(freq=freq, amplitude=amp, ready=core["ref_ready"])
-        self.core.step(ref_valid=nco["valid"], ref=nco["payload"], period=mod["PERIOD"],
-                       osr=mod["OSR"], zero_policy=(ctrl >> 1) & 1)
-        self.driver.step(h=core["h"], update=core["update"], enable=ctrl & 1, dead=mod["DEAD"],
-                         min_pulse=mod["MIN_PULSE"], fault_in=fault_in,
-                         fault_clear=mod["FAULT_CLEAR"] | pressed.get("fault_clear", 0))
+        upper, lower = pins["upper"], pins["lower"]
+        turn_on = (upper & ~self.upper_prev) | (lower & ~self.lower_prev)
         if demo["SNAPSHOT"]:
             self.snap_cycles, self.snap = self.cycles, list(self.switches)
         self.cycles = (self.cycles + 1) & 0xFFFFFFFF
-        self.switches = [(s + ((drv["event"] >> i) & 1)) & 0xFFFFFFFF
+        self.switches = [(s + ((turn_on >> i) & 1)) & 0xFFFFFFFF
                          for i, s in enumerate(self.switches)]
+        self.upper_prev, self.lower_prev = upper, lower
+        self.led_active = int((upper | lower) != 0)
         if self.buttons:
             self.buttons.step(raw=buttons)
         return pins

@@ -12,7 +12,7 @@ from mdfqm_gateware.demo.regmap import DEMO_ID, demo_window
 from mdfqm_gateware.host import protocol as proto
 from mdfqm_gateware.host.cli import find_ports, main
 from mdfqm_gateware.host.client import BusError, Client, NoReplyError
-from mdfqm_gateware.host.device import CORE_MAP, TOP_MAP, Counters, DemoDevice, linear_limit
+from mdfqm_gateware.host.device import TOP_MAP, Counters, DemoDevice, linear_limit
 from mdfqm_gateware.host.simdevice import SimulatedDevice
 
 DEMO = demo_window(3, 16, 32)
@@ -29,9 +29,9 @@ class FakeClock:
         self.now += seconds
 
 
-def device(top=True, **kwargs):
+def device(**kwargs):
     clock = FakeClock()
-    dev = SimulatedDevice(top=top, clock=clock, **kwargs)
+    dev = SimulatedDevice(clock=clock, **kwargs)
     return dev, clock, Client(dev, sleep=clock.sleep)
 
 
@@ -125,12 +125,11 @@ def test_garbage_and_partial_frames_are_dropped():
 
 # ------------------------------------------------------------------------------ the device
 
-@pytest.mark.parametrize("top", [True, False])
-def test_device_settings_in_physical_units(top):
-    _, clock, client = device(top=top, clk_hz=24_000_000)
+def test_device_settings_in_physical_units():
+    _, clock, client = device(clk_hz=24_000_000)
     demo = DemoDevice(client)
-    assert demo.info.clk_hz == 24_000_000 and demo.info.top == top
-    assert demo.map is (TOP_MAP if top else CORE_MAP)
+    assert demo.info.clk_hz == 24_000_000 and demo.info.top
+    assert demo.map is TOP_MAP
     f = demo.set_frequency(50.0)
     assert abs(f - 50.0) < 24e6 / 2**32 and client.read(DEMO.addr("NCO_FREQ")) == 8948
     assert demo.set_amplitude(0.5) == 0.5 and client.read(DEMO.addr("NCO_AMP")) == 8192
@@ -164,7 +163,7 @@ def test_device_settings_in_physical_units(top):
     (lambda d: d.set_osr(0), "osr must be in [1, 255], not 0"),
 ])
 def test_device_rejects_bad_settings(call, message):
-    _, _, client = device(top=True, clk_hz=24_000_000)
+    _, _, client = device(clk_hz=24_000_000)
     with pytest.raises(ValueError) as info:
         call(DemoDevice(client))
     assert str(info.value) == message
@@ -209,8 +208,8 @@ def test_cli_commands(capsys):
     assert out == f"0x0100: {DEMO_ID:#010x}\n"
     code, out = run_cli(capsys, "write", "0x104", "0x1000")
     assert out == "0x0104 <- 0x00001000\n"
-    assert main(["--port", "sim://core", "read", "dead_min"]) == 0
-    assert capsys.readouterr().out == "0x0007: 0x00000002\n"
+    assert main(["--port", "sim://", "read", "dead_min"]) == 0
+    assert capsys.readouterr().out == "0x0002: 0x00000040\n"
     with pytest.raises(SystemExit):
         main(["--port", "sim://", "read", "NOPE"])
 

@@ -1,6 +1,7 @@
 """iCE40-HX8K Breakout Board (iCE40HX8K-CT256).
 
-Clock: 12 MHz oscillator on J3 -> SB_PLL40_CORE -> 48 MHz system clock.
+Clock: 12 MHz oscillator on J3 -> SB_PLL40_CORE -> 36 MHz system clock (the design
+reaches about 48 MHz on the HX8K).
 Pins: gates, fault and scope trigger on header J2; UART through the FTDI's second channel;
 LEDs D2 = active, D3 = fault, D9 = heartbeat. The board has no user buttons.
 """
@@ -15,7 +16,7 @@ BOARD = Board(
     platform=ICE40HX8KBEVNPlatform,
     clock="clk12",
     clock_hz=12e6,
-    pll=Ice40Pll(divr=0, divf=63, divq=4, filter_range=1, pad=False),    # icepll -i 12 -o 48
+    pll=Ice40Pll(divr=0, divf=47, divq=4, filter_range=1, pad=False),    # icepll -i 12 -o 36
     connector=("j", 2),                                                  # header J2
     gate_pins=(("9", "11", "13"), ("10", "12", "14")),
     fault_pin="17",

@@ -1,9 +1,15 @@
 """The board-independent demo: UART -> bridge -> registers, an N-phase sine NCO feeding the
-modulator, gates, fault, LEDs, buttons and switching counters.
+drop-in top (:class:`~mdfqm_gateware.top.MdfqmTop`), gates, fault, LEDs, buttons and switching
+counters.
 
 Board tops (``boards/<board>/top.py``) only add the clock, the reset and the pins; everything
 here is simulated as one toplevel by ``tb/test_demo_top.py`` and predicted clock by clock by
 ``tb/demo_models.py: DemoModel``.
+
+Bus: the UART bridge and the :class:`~.sequencer.BusSequencer` (settings after reset, the
+enable and fault-clear buttons) share one Wishbone-classic bus (:class:`~.arbiter.
+WishboneArbiter`); the decoder puts the top's registers at ``TOP_BASE`` (64 words) and the
+demo's block at ``0x100`` (32 words).
 """
 
 from __future__ import annotations
@@ -14,13 +20,17 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out, connect
 
+from mdfqm_model import top as top_map
+
 from ..params import contract_for, validate_positive
+from ..top import MdfqmTop
+from .arbiter import WishboneArbiter
 from .bridge import UartBridge
 from .buttons import Buttons
-from .modulator import CoreModulator
 from .nco import SineNco
 from .registers import RegisterBank
-from .regmap import DEMO_ID, demo_window, modulator_window
+from .regmap import DEMO_ID, INFO_TOP, TOP_BASE, demo_window
+from .sequencer import BusSequencer
 from .uart import UartRx, UartTx, uart_divider
 from .wishbone import WishboneDecoder
 
@@ -36,7 +46,7 @@ def _clocks(ns, clk_hz) -> int:
 
 
 class DemoConfig:
-    """Every parameter of the demo, validated, with the derived register reset values.
+    """Every parameter of the demo, validated, with the derived register values.
 
     Parameters
     ----------
@@ -45,7 +55,7 @@ class DemoConfig:
     baud : int
         UART rate (8N1); must be within 2 % of ``clk_hz / round(clk_hz / baud)``.
     phases, width : int
-        The core's (``phases`` <= 8 for the demo's counters).
+        The top's (``phases`` in [3, 8] for the demo's counters).
     buttons : tuple of str
         Action of each button input, from :data:`ACTIONS`, no repeats.
     debounce : int or None
@@ -54,19 +64,18 @@ class DemoConfig:
         The NCO's (:class:`~.nco.SineNco`).
     freq_hz, amplitude :
         Reset frequency of the NCO and its amplitude in Vdc (peak of each phase).
-    update_hz :
-        Reset update rate of the core (``PERIOD = round(clk_hz / update_hz)``).
-    dead_ns, dead_min_ns :
-        Reset dead time and the dead-time floor (rounded up to whole clocks, at least 1).
-    time_width : int
-        Width of the driver's dead-time / minimum-pulse counters.
+    update_hz, dead_ns, min_pulse_ns :
+        Written to the top's ``PERIOD`` (``round(clk_hz / update_hz)``), ``DEAD`` and
+        ``MIN_PULSE`` after reset (rounded up to whole clocks).
+    dead_min_ns :
+        The top's dead-time floor (elaboration parameter, at least one clock).
     bus_timeout, frame_timeout : int or None
         The bridge's (default frame timeout: 30 byte times).
     """
 
     def __init__(self, clk_hz, baud=115200, phases=3, width=16, buttons=(), debounce=None,
                  acc_bits=32, table_bits=8, sample_width=16, quarter=True, freq_hz=50.0,
-                 amplitude=0.5, update_hz=100e3, dead_ns=500, dead_min_ns=100, time_width=10,
+                 amplitude=0.5, update_hz=100e3, dead_ns=500, min_pulse_ns=0, dead_min_ns=200,
                  bus_timeout=64, frame_timeout=None):
         self.clk_hz = validate_positive(clk_hz, "clk_hz", minimum=1_000_000)
         self.baud = baud
@@ -78,8 +87,8 @@ class DemoConfig:
         for action in buttons:
             if action not in ACTIONS:
                 raise ValueError(f"buttons: {action!r} is not one of {ACTIONS}")
-        if len(set(buttons)) != len(buttons) or len(buttons) > 8:
-            raise ValueError(f"buttons must be at most 8 distinct actions, not {buttons!r}")
+        if len(set(buttons)) != len(buttons):
+            raise ValueError(f"buttons must not repeat an action: {buttons!r}")
         self.buttons = buttons
         self.debounce = validate_positive(
             clk_hz // 100 if debounce is None else debounce, "debounce", maximum=1 << 24)
@@ -91,15 +100,15 @@ class DemoConfig:
             raise ValueError(f"amplitude must be a number of Vdc in [0, 2), not {amplitude!r}")
         self.bus_timeout = bus_timeout
         self.frame_timeout = 300 * self.divider if frame_timeout is None else frame_timeout
-        self.time_width = validate_positive(time_width, "time_width", minimum=2, maximum=16)
-        self.dead_min = max(1, _clocks(dead_min_ns, clk_hz))
+        self.dead_min = validate_positive(max(1, _clocks(dead_min_ns, clk_hz)), "dead_min",
+                                          maximum=0xFFFF)
         self.amp_step = self.contract.full // 32
-        self.modulator_init = {
-            "PERIOD": min(0xFFFF, round(clk_hz / update_hz)),
-            "OSR": 1,
-            "DEAD": max(self.dead_min, _clocks(dead_ns, clk_hz)),
-            "MIN_PULSE": max(self.dead_min, _clocks(dead_ns, clk_hz)),
-        }
+        #: (address, value) written to the top by the bus sequencer after reset
+        self.top_init = (
+            (TOP_BASE + top_map.PERIOD, min(0xFFFF, round(clk_hz / update_hz))),
+            (TOP_BASE + top_map.DEAD, min(0xFFFF, max(self.dead_min, _clocks(dead_ns, clk_hz)))),
+            (TOP_BASE + top_map.MIN_PULSE, min(0xFFFF, _clocks(min_pulse_ns, clk_hz))),
+        )
         self.demo_init = {
             "NCO_FREQ": round(freq_hz * (1 << acc_bits) / clk_hz),
             "NCO_AMP": min((1 << (width - 1)) - 1, round(amplitude * self.contract.full)),
@@ -108,16 +117,16 @@ class DemoConfig:
 
     @property
     def info(self) -> int:
-        return self.phases | self.width << 8 | self.acc_bits << 16
+        return self.phases | self.width << 8 | self.acc_bits << 16 | INFO_TOP
 
     def as_dict(self) -> dict:
-        """The constructor arguments (for test parameters and reports)."""
+        """The main parameters (for test names and reports)."""
         return {"clk_hz": self.clk_hz, "baud": self.baud, "phases": self.phases,
                 "width": self.width, "buttons": list(self.buttons), "debounce": self.debounce,
                 "acc_bits": self.acc_bits, "table_bits": self.table_bits,
                 "sample_width": self.sample_width, "quarter": self.quarter,
-                "time_width": self.time_width,
-                "bus_timeout": self.bus_timeout, "frame_timeout": self.frame_timeout}
+                "dead_min": self.dead_min, "bus_timeout": self.bus_timeout,
+                "frame_timeout": self.frame_timeout}
 
 
 class DemoDesign(wiring.Component):
@@ -132,13 +141,13 @@ class DemoDesign(wiring.Component):
     buttons : In(len(config.buttons))
         Active-high button levels (asynchronous); only present if the board has buttons.
     fault_in : In(1)
-        Active-high fault from the power stage (asynchronous).
+        Active-high fault from the power stage (asynchronous; the top synchronises it).
     upper, lower : Out(phases)
         Gate signals, active high, registered: upper and lower switch of each leg.
     led_active : Out(1)
-        The modulator drives the gates.
+        A gate is on: the top drives the power stage (registered).
     led_fault : Out(1)
-        The fault latch or the synchronised fault input is set.
+        The top's fault latch (registered).
     heartbeat : Out(1)
         A bit of the clock counter (about 1 Hz): the clock runs.
     trigger : Out(1)
@@ -168,7 +177,6 @@ class DemoDesign(wiring.Component):
         if config.buttons:
             members["buttons"] = In(len(config.buttons))
         self.demo_window = demo_window(n, config.width, config.acc_bits)
-        self.modulator_window = modulator_window(config.time_width)
         super().__init__(members)
 
     def elaborate(self, platform):
@@ -178,39 +186,52 @@ class DemoDesign(wiring.Component):
         m.submodules.uart_rx = urx = UartRx(c.divider)
         m.submodules.uart_tx = utx = UartTx(c.divider)
         m.submodules.bridge = bridge = UartBridge(16, c.bus_timeout, c.frame_timeout)
-        dw, mw = self.demo_window, self.modulator_window
+        m.submodules.sequencer = seq = BusSequencer(
+            16, c.top_init, TOP_BASE + top_map.CTRL, top_map.CTRL_ENABLE,
+            TOP_BASE + top_map.CMD, top_map.CMD_FAULT_CLEAR)
+        m.submodules.arbiter = arbiter = WishboneArbiter(16)
+        dw = self.demo_window
         m.submodules.decoder = decoder = WishboneDecoder(16, {
-            "modulator": (mw.base, mw.addr_width), "demo": (dw.base, dw.addr_width)})
+            "top": (TOP_BASE, top_map.ADDR_WIDTH), "demo": (dw.base, dw.addr_width)})
         m.submodules.regs = regs = RegisterBank(dw, init=c.demo_init,
                                                 settable=("NCO_FREQ", "NCO_AMP"))
         m.submodules.nco = nco = SineNco(n, c.width, c.acc_bits, c.table_bits, c.sample_width,
                                          c.quarter)
-        m.submodules.modulator = mod = CoreModulator(n, c.width, c.dead_min, c.time_width,
-                                                           c.modulator_init)
+        m.submodules.top = top = MdfqmTop(n, c.width, dead_min=c.dead_min)
 
         m.d.comb += [urx.rx.eq(self.uart_rx), self.uart_tx.eq(utx.tx)]
         connect(m, urx.o, bridge.rx)
         connect(m, bridge.tx, utx.i)
-        connect(m, bridge.bus, decoder.bus)
+        connect(m, bridge.bus, arbiter.m0)
+        connect(m, seq.bus, arbiter.m1)
+        connect(m, arbiter.bus, decoder.bus)
         connect(m, decoder.demo, regs.bus)
-        connect(m, decoder.modulator, mod.bus)
-        connect(m, nco.ref, mod.ref)
+        # the top's bus is bus.WishboneSignature: the same members as the demo's
+        for name in ("cyc", "stb", "we", "adr", "dat_w", "sel"):
+            m.d.comb += getattr(top.wb, name).eq(getattr(decoder.top, name))
+        m.d.comb += [decoder.top.ack.eq(top.wb.ack), decoder.top.dat_r.eq(top.wb.dat_r)]
+        connect(m, nco.ref, top.ref)
         m.d.comb += [
             nco.freq.eq(regs.NCO_FREQ),
             nco.amplitude.eq(regs.NCO_AMP),
-            mod.fault_in.eq(self.fault_in),
-            self.upper.eq(mod.upper),
-            self.lower.eq(mod.lower),
-            self.led_active.eq(mod.active),
-            self.led_fault.eq(mod.fault | mod.fault_input),
+            top.fault_in.eq(self.fault_in),
+            top.sync_in.eq(0),
+            self.upper.eq(top.upper),
+            self.lower.eq(top.lower),
+            self.led_fault.eq(top.fault),
             self.trigger.eq(nco.phase[-1]),
         ]
+        m.d.sync += self.led_active.eq((top.upper | top.lower) != 0)
 
-        # telemetry: live counters, copied together by SNAPSHOT
+        # telemetry: turn-ons at the pins (the top's EVENTS), copied together by SNAPSHOT
+        upper_prev, lower_prev = Signal(n), Signal(n)
+        m.d.sync += [upper_prev.eq(top.upper), lower_prev.eq(top.lower)]
+        turn_on = Signal(n)
+        m.d.comb += turn_on.eq((top.upper & ~upper_prev) | (top.lower & ~lower_prev))
         cycles = Signal(32)
         switches = [Signal(32, name=f"switches_{i}") for i in range(n)]
         m.d.sync += cycles.eq(cycles + 1)
-        m.d.sync += [s.eq(s + mod.event[i]) for i, s in enumerate(switches)]
+        m.d.sync += [s.eq(s + turn_on[i]) for i, s in enumerate(switches)]
         snap_cycles = Signal(32)
         snap_switches = [Signal(32, name=f"snap_switches_{i}") for i in range(n)]
         with m.If(regs.SNAPSHOT):
@@ -250,7 +271,7 @@ class DemoDesign(wiring.Component):
             regs.NCO_AMP_value.eq(Mux(press("amp_up"),
                                       Mux(amp + c.amp_step > amp_top, amp_top, amp + c.amp_step),
                                       Mux(amp > c.amp_step, amp - c.amp_step, 0))),
-            mod.enable_toggle.eq(press("enable")),
-            mod.fault_clear.eq(press("fault_clear")),
+            seq.enable_toggle.eq(press("enable")),
+            seq.fault_clear.eq(press("fault_clear")),
         ]
         return m

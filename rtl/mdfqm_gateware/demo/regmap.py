@@ -5,18 +5,19 @@ All addresses are Wishbone *word* addresses as sent in the bridge protocol
 (:mod:`mdfqm_gateware.host.protocol`). Access: ``rw`` read/write, ``ro`` read-only, ``strobe``
 write-only (any write pulses the function; reads return 0). Writes keep the low ``width`` bits.
 Reading an unused offset inside a window returns 0; an address outside every window is not
-acknowledged (reply ``'T'``).
+acknowledged (reply ``'T'``). The drop-in top's own registers are at ``TOP_BASE`` (its map is
+:mod:`mdfqm_model.top`, documented in ``docs/top.md``); the demo's block is :func:`demo_window`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["DEMO", "DEMO_ID", "MODULATOR", "Reg", "Window"]
+__all__ = ["DEMO", "DEMO_ID", "TOP_BASE", "Reg", "Window", "demo_window"]
 
 #: value of the demo's ID register: "MDFQ"
 DEMO_ID = 0x4D444651
-#: INFO[31:24] bit 0: the modulator window holds the drop-in top (1) or the core fallback (0)
+#: INFO[24]: the window at TOP_BASE holds the drop-in top (always 1 in this version)
 INFO_TOP = 1 << 24
 
 
@@ -58,36 +59,8 @@ class Window:
         return self.base + self[name].offset
 
 
-#: CTRL bits of the modulator window
-CTRL_ENABLE = 1 << 0
-CTRL_ZERO_POLICY = 1 << 1
-#: STATUS bits of the modulator window
-STATUS_ACTIVE = 1 << 0
-STATUS_FAULT = 1 << 1
-STATUS_FAULT_INPUT = 1 << 2
-STATUS_SATURATED = 1 << 3
-STATUS_PERIOD_CLAMPED = 1 << 4
-
-
-def modulator_window(time_width: int = 10) -> Window:
-    """The thin register block around MdfqmCore + GateDriver (the fallback modulator);
-    ``time_width`` is the width of the driver's dead-time and minimum-pulse counters."""
-    tw = time_width
-    return Window("modulator", 0x000, 4, (
-        Reg("CTRL", 0x0, 2, "rw", "bit 0 ENABLE (taken at update boundaries), "
-                                  "bit 1 ZERO_POLICY (0 all-off, 1 fewest transitions)"),
-        Reg("PERIOD", 0x1, 16, "rw", "clocks per update (values below the loop latency act "
-                                     "as the latency)"),
-        Reg("OSR", 0x2, 8, "rw", "updates per reference sample (0 acts as 1)"),
-        Reg("DEAD", 0x3, tw, "rw", "dead time in clocks (values below DEAD_MIN act as "
-                                   "DEAD_MIN)"),
-        Reg("MIN_PULSE", 0x4, tw, "rw", "minimum on-time in clocks (0 and 1: none)"),
-        Reg("STATUS", 0x5, 5, "ro", "bit 0 ACTIVE, 1 FAULT (latched), 2 FAULT_INPUT, "
-                                    "3 SATURATED, 4 PERIOD_CLAMPED"),
-        Reg("FAULT_CLEAR", 0x6, 1, "strobe", "clear the fault latch (only while the fault "
-                                             "input is inactive)"),
-        Reg("DEAD_MIN", 0x7, tw, "ro", "dead-time floor in clocks (fixed at build time)"),
-    ))
+#: the drop-in top's window (``docs/top.md``; addresses from :mod:`mdfqm_model.top`)
+TOP_BASE = 0x000
 
 
 def demo_window(phases: int, width: int, acc_bits: int) -> Window:
@@ -112,6 +85,5 @@ def demo_window(phases: int, width: int, acc_bits: int) -> Window:
     ))
 
 
-#: the default configuration's windows (three phases, 16-bit references, 32-bit NCO)
-MODULATOR = modulator_window()
+#: the default configuration's demo window (three phases, 16-bit references, 32-bit NCO)
 DEMO = demo_window(3, 16, 32)

@@ -11,7 +11,7 @@ Commands:
   write ADDR VALUE      raw register write
 
 ``--port auto`` (default) probes every serial port for the demo's ID; ``--port sim://`` talks
-to :class:`~.simdevice.SimulatedDevice` (``sim://core`` for the core-fallback map).
+to :class:`~.simdevice.SimulatedDevice`.
 """
 
 from __future__ import annotations
@@ -42,9 +42,9 @@ def _serial():
 
 
 def open_port(name: str, baud: int, timeout: float):
-    """A serial-like port: a real one, or ``sim://[core]`` for the simulated device."""
+    """A serial-like port: a real one, or ``sim://`` for the simulated device."""
     if name.startswith("sim://"):
-        return SimulatedDevice(top=name != "sim://core")
+        return SimulatedDevice()
     serial = _serial()
     return serial.Serial(name, baudrate=baud, timeout=timeout)
 

@@ -1,8 +1,8 @@
 """The demo device in physical units: frequency, amplitude, mode, dead time, counters.
 
-Works with either modulator the bitstream holds (the demo's ``INFO[24]`` says which): the
-drop-in top ``MdfqmTop`` (register map in ``docs/top.md``) or the core fallback
-(:func:`mdfqm_gateware.demo.regmap.modulator_window`).
+The modulator is the drop-in top ``MdfqmTop`` (register map in ``docs/top.md``, constants from
+:mod:`mdfqm_model.top`) at ``TOP_BASE``; the demo's own block is
+:func:`mdfqm_gateware.demo.regmap.demo_window`.
 """
 
 from __future__ import annotations
@@ -10,10 +10,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..demo.regmap import DEMO_ID, INFO_TOP, demo_window
+from mdfqm_model import top
+
+from ..demo.regmap import DEMO_ID, INFO_TOP, TOP_BASE, demo_window
 from .client import Client
 
-__all__ = ["CORE_MAP", "MODES", "TOP_MAP", "Counters", "DemoDevice", "DeviceInfo", "Status"]
+__all__ = ["MODES", "TOP_MAP", "Counters", "DemoDevice", "DeviceInfo", "Status"]
 
 #: CLI mode name -> CTRL.ZERO_POLICY (the core's zero-state policy)
 MODES = {"all-off": 0, "fewest-transitions": 1}
@@ -34,23 +36,19 @@ class ModulatorMap:
     fault_clear: tuple          # (address, value) of the write that clears the fault latch
     status_bits: dict           # name -> bit mask
     time_max: int               # largest DEAD / MIN_PULSE value
-    ctrl_enable: int = 1
-    ctrl_zero_policy: int = 2
+    ctrl_enable: int
+    ctrl_zero_policy: int
 
-
-CORE_MAP = ModulatorMap(
-    "core fallback", ctrl=0x0, period=0x1, osr=0x2, dead=0x3, min_pulse=0x4, status=0x5,
-    dead_min=0x7, fault_clear=(0x6, 1),
-    status_bits={"active": 1, "fault": 2, "fault_input": 4, "saturated": 8,
-                 "period_clamped": 16},
-    time_max=(1 << 10) - 1)
 
 TOP_MAP = ModulatorMap(
-    "MdfqmTop", ctrl=0x03, period=0x06, osr=0x07, dead=0x08, min_pulse=0x09, status=0x05,
-    dead_min=0x02, fault_clear=(0x04, 2),
-    status_bits={"fault": 1, "fault_input": 2, "active": 4, "ref_pending": 8, "saturated": 16,
-                 "period_clamped": 32},
-    time_max=0xFFFF)
+    "MdfqmTop", ctrl=TOP_BASE + top.CTRL, period=TOP_BASE + top.PERIOD,
+    osr=TOP_BASE + top.OSR, dead=TOP_BASE + top.DEAD, min_pulse=TOP_BASE + top.MIN_PULSE,
+    status=TOP_BASE + top.STATUS, dead_min=TOP_BASE + top.DEAD_MIN,
+    fault_clear=(TOP_BASE + top.CMD, top.CMD_FAULT_CLEAR),
+    status_bits={"fault": top.STATUS_FAULT, "fault_input": top.STATUS_FAULT_INPUT,
+                 "active": top.STATUS_ACTIVE, "ref_pending": top.STATUS_REF_PENDING,
+                 "saturated": top.STATUS_SATURATED, "period_clamped": top.STATUS_PERIOD_CLAMPED},
+    time_max=0xFFFF, ctrl_enable=top.CTRL_ENABLE, ctrl_zero_policy=top.CTRL_ZERO_POLICY)
 
 
 @dataclass(frozen=True)
@@ -112,7 +110,9 @@ class DemoDevice:
         self.demo = demo_window(phases, width, acc_bits)
         self.info = DeviceInfo(clk_hz=client.read(self.demo.addr("CLK_HZ")), phases=phases,
                                width=width, acc_bits=acc_bits, top=bool(info & INFO_TOP))
-        self.map = TOP_MAP if self.info.top else CORE_MAP
+        if not self.info.top:
+            raise NotDemoError("INFO[24] is 0: not a bitstream with the drop-in top")
+        self.map = TOP_MAP
 
     # ---------------------------------------------------------------- conversions
     def _clocks(self, ns: float, name: str, maximum: int) -> int:

@@ -4,7 +4,7 @@
 Bytes follow the bridge's rules (:mod:`mdfqm_gateware.demo.bridge`): a frame starts only with
 ``'W'``/``'R'``, a partial frame is dropped after ``frame_timeout`` seconds of silence, a bad
 checksum is answered ``'E'``, an address outside the windows ``'T'``. Registers follow the
-register maps (the drop-in top's or the core fallback's, and the demo's); the counters advance
+register maps (the drop-in top's and the demo's); the counters advance
 with the (simulated) time at a plausible rate while enabled: they are *not* a model of MDFQM.
 Faults can be injected on the line (``inject``).
 """
@@ -14,9 +14,11 @@ from __future__ import annotations
 import time
 from collections import deque
 
-from ..demo.regmap import DEMO_ID, INFO_TOP, demo_window
+from mdfqm_model import top
+
+from ..demo.regmap import DEMO_ID, INFO_TOP, TOP_BASE, demo_window
 from . import protocol as proto
-from .device import CORE_MAP, TOP_MAP
+from .device import TOP_MAP
 
 __all__ = ["INJECTIONS", "SimulatedDevice"]
 
@@ -30,19 +32,17 @@ class SimulatedDevice:
     Parameters
     ----------
     clk_hz, phases, width, acc_bits : the device's configuration (INFO, CLK_HZ)
-    top : bool
-        Modulator window of the drop-in top (True) or of the core fallback.
     clock : callable
         Seconds, monotonic (a fake clock in tests).
     frame_timeout : float
         Silence in seconds after which a partial request is dropped.
     """
 
-    def __init__(self, clk_hz=18_000_000, phases=3, width=16, acc_bits=32, top=True,
+    def __init__(self, clk_hz=18_000_000, phases=3, width=16, acc_bits=32,
                  clock=time.monotonic, frame_timeout=0.003):
         self.clk_hz, self.phases, self.width, self.acc_bits = clk_hz, phases, width, acc_bits
-        self.top, self.clock, self.frame_timeout = top, clock, frame_timeout
-        self.map = TOP_MAP if top else CORE_MAP
+        self.clock, self.frame_timeout = clock, frame_timeout
+        self.map = TOP_MAP
         self.demo = demo_window(phases, width, acc_bits)
         self.out = bytearray()
         self.partial = bytearray()
@@ -51,9 +51,7 @@ class SimulatedDevice:
         self.log = []                         # (cmd, addr, data, status) of executed requests
         m = self.map
         self.regs = {m.ctrl: 0, m.period: 8, m.osr: 1, m.dead: 64, m.min_pulse: 0,
-                     m.dead_min: 64 if top else 2}
-        if top:
-            self.regs[0x00] = DEMO_ID            # the top's own ID is "MDFQ" too
+                     m.dead_min: 64, TOP_BASE + top.ID: top.ID_VALUE}
         self.fault = False
         self.demo_regs = {"NCO_FREQ": round(50 * (1 << acc_bits) / clk_hz),
                           "NCO_AMP": 1 << (width - 3)}
@@ -139,8 +137,7 @@ class SimulatedDevice:
         write = cmd == proto.CMD_WRITE
         if self.demo.base <= addr < self.demo.base + (1 << self.demo.addr_width):
             return self._demo(addr - self.demo.base, write, data)
-        window = 1 << (6 if self.top else 4)
-        if addr < window:
+        if TOP_BASE <= addr < TOP_BASE + (1 << top.ADDR_WIDTH):
             return self._modulator(addr, write, data)
         return None
 
@@ -159,7 +156,7 @@ class SimulatedDevice:
             return self.demo_regs[reg.name]
         values = {"ID": DEMO_ID, "CLK_HZ": self.clk_hz, "CYCLES": self.snapshot[0],
                   "INFO": self.phases | self.width << 8 | self.acc_bits << 16
-                  | (INFO_TOP if self.top else 0),
+                  | INFO_TOP,
                   "NCO_PHASE": (self._advance() * self.demo_regs["NCO_FREQ"])
                   & ((1 << self.acc_bits) - 1),
                   "BUTTONS": 0}
