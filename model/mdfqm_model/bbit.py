@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contract import ALL_OFF, Contract
+from .contract import ALL_OFF, MODES, Contract
 from .update import (
     _check_codes,
     _check_osr,
@@ -73,8 +73,6 @@ __all__ = [
     "validate_mode",
 ]
 
-#: generator settings: MDFQM (b = 0) and the gamma-split modes (b >= 1)
-MODES = ("mdfqm", "svpwm", "dpwm0", "dpwm1", "dpwm")
 
 
 def validate_mode(mode: str, b: int, contract: Contract) -> None:

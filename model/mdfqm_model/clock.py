@@ -1,4 +1,5 @@
-"""Clock-level model of the MDFQM core: predicts every output of the gateware on every clock.
+"""Clock-level models of the MDFQM core (:class:`CoreModel`) and of the gating-signal generator
+(:class:`GeneratorModel`): they predict every output of the gateware on every clock.
 
 A plain per-cycle state machine implementing the section "Clock-level timing of the core" of
 :mod:`mdfqm_model.contract`; the arithmetic of each update is *not* duplicated here, it is
@@ -46,13 +47,28 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .contract import Contract, loop_latency
+from .bbit import bbit_update
+from .contract import (
+    BITS_WIDTH,
+    MODE_WIDTH,
+    MODES,
+    Contract,
+    latch_mode,
+    loop_latency,
+    min_period,
+    resolution_latency,
+    validate_max_bits,
+)
 from .update import mdfqm_update, remove_common_mode, validate_rule, validate_zero_policy
 
-__all__ = ["OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel"]
+__all__ = ["GENERATOR_OUTPUTS", "OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel", "GeneratorModel"]
 
 #: names of the per-cycle outputs, in the order of :meth:`CoreModel.step`'s dict
 OUTPUTS = ("ref_ready", "start", "sample", "h", "update", "saturated", "period_clamped")
+#: the generator's outputs: the core's and ``mode_clamped``
+GENERATOR_OUTPUTS = (*OUTPUTS, "mode_clamped")
+#: the runtime inputs every model takes (the generator adds ``mode`` and ``bits``)
+INPUTS = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy", "sync_in")
 #: largest value of the unsigned 16-bit ``period`` input
 PERIOD_MAX = (1 << 16) - 1
 #: largest value of the unsigned 8-bit ``osr`` input
@@ -83,6 +99,9 @@ class CoreModel:
     ``phases`` N >= 3, ``width`` W (``FULL = 2**(W-2)``), ``rule`` one of ``contract.RULES``,
     ``latency`` the loop latency L in clocks (default ``contract.loop_latency(phases, rule)``).
     """
+
+    OUTPUTS = OUTPUTS
+    INPUTS = INPUTS
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty", latency=None):
         self.contract = Contract(phases, width)
@@ -165,11 +184,14 @@ class CoreModel:
         osr=1,
         zero_policy=0,
         sync_in=0,
+        **extra,
     ) -> dict:
         """Outputs visible during this cycle, then advance to the next cycle.
 
         ``ref`` defaults to all-zero codes; ``period=None`` means ``L`` (the minimum legal period).
+        ``extra``: the inputs a subclass adds (none for the core).
         """
+        extra = self._check_extra(extra)
         rst = _bit(rst, "rst")
         ref_valid = _bit(ref_valid, "ref_valid")
         ref = (0,) * self.phases if ref is None else self._check_ref(ref)
@@ -203,37 +225,59 @@ class CoreModel:
 
         # ---- sequencer and sampling switch
         if start:
-            p = max(period, self.latency)
+            p, clamped, latency, token = self._latch(period, extra)
             self.p_lat = p
-            self.period_clamped = int(period < self.latency)
+            self.period_clamped = int(clamped)
             self.osr_lat = max(osr, 1)
             self.policy_lat = zero_policy
             self.sub = 0 if self.sub + 1 >= self.osr_lat else self.sub + 1
             self.phase = 0 if p <= 1 else 1  # sync_in cannot restart here: 1 < L
-            if self.inflight is not None:  # impossible while P >= L
+            if self.inflight is not None:  # impossible while P >= the update's latency
                 raise AssertionError("update started while another is in flight")
-            self.inflight = [self.latency, self.x, r_for_update, zero_policy]
+            self.inflight = [latency, self.x, r_for_update, zero_policy, token]
         else:
-            restart = sync_in and self.phase + 1 >= self.latency
+            restart = sync_in and self.phase + 1 >= self._restart_latency()
             self.phase = 0 if restart or self.phase + 1 >= self.p_lat else self.phase + 1
 
         self.s1, self.s1_data = n_s1, n_s1_data
         self.s2, self.s2_data = n_s2, n_s2_data
         self.full, self.pending, self.held = n_full, n_pending, n_held
 
-        # ---- the loop: commit the update in flight when its result becomes visible
+        # ---- the output between presentations (slot layouts), then the loop: commit the update
+        # in flight when its result becomes visible
+        self._advance_output()
         self.update = 0
         if self.inflight is not None:
             self.inflight[0] -= 1
             if self.inflight[0] == 0:
-                _, x, r, policy = self.inflight
-                res = mdfqm_update(x, r, self.h, self.contract, self.rule, policy)
-                self.h = res.h
-                self.x = res.x_next
-                self.saturated = int(res.saturated)
+                _, x, r, policy, token = self.inflight
+                self._commit(x, r, policy, token)
                 self.update = 1
                 self.inflight = None
         return out
+
+    # ------------------------------------------------------------------ hooks (the core's)
+    def _check_extra(self, extra: dict) -> dict:
+        if extra:
+            raise TypeError(f"{type(self).__name__}.step() got unexpected inputs {sorted(extra)}")
+        return extra
+
+    def _latch(self, period: int, extra: dict):
+        """At an update start: ``(P, period_clamped, latency of this update, token)``."""
+        return max(period, self.latency), period < self.latency, self.latency, None
+
+    def _restart_latency(self) -> int:
+        """``sync_in`` restarts once ``phase + 1 >=`` this (the update in flight committed)."""
+        return self.latency
+
+    def _advance_output(self) -> None:
+        """Per-cycle change of the output between presentations (none for the core)."""
+
+    def _commit(self, x, r, policy, token) -> None:
+        res = mdfqm_update(x, r, self.h, self.contract, self.rule, policy)
+        self.h = res.h
+        self.x = res.x_next
+        self.saturated = int(res.saturated)
 
     # ------------------------------------------------------------------ many clocks
     def simulate(self, stim: dict, trace_state: bool = False) -> dict:
@@ -246,7 +290,7 @@ class CoreModel:
         length ``C``; with ``trace_state`` also ``x`` (C x N, the integrator visible in each cycle)
         and ``phase``, ``sub``, ``full``.
         """
-        names = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy", "sync_in")
+        names = self.INPUTS
         unknown = set(stim) - set(names) - {"cycles"}
         if unknown:
             raise ValueError(f"unknown stimulus names {sorted(unknown)}; known: {names}")
@@ -283,7 +327,7 @@ class CoreModel:
             c = int(stim["cycles"])
         else:
             raise ValueError("give at least one stimulus array or stim['cycles']")
-        out = {k: np.zeros(c, dtype=np.int64) for k in OUTPUTS}
+        out = {k: np.zeros(c, dtype=np.int64) for k in self.OUTPUTS}
         if trace_state:
             out["x"] = np.zeros((c, self.phases), dtype=np.int64)
             for k in ("phase", "sub", "full"):
@@ -298,6 +342,100 @@ class CoreModel:
                 out["sub"][i] = self.sub
                 out["full"][i] = self.full
             o = self.step(**kw)
-            for k in OUTPUTS:
+            for k in self.OUTPUTS:
                 out[k][i] = o[k]
         return out
+
+
+class GeneratorModel(CoreModel):
+    """Cycle-accurate model of the gating-signal generator (RTL ``GatingSignalGenerator``).
+
+    The core's model plus the section "b-bit pulse-width resolution: the gating-signal generator"
+    of :mod:`mdfqm_model.contract`: runtime ``mode`` and ``bits`` latched at each update start
+    (:func:`mdfqm_model.contract.latch_mode`), short / long updates, the mode-dependent minimum
+    period and sync threshold, slot layouts presented ``L_b`` after their start. The arithmetic
+    of each update is :func:`mdfqm_model.bbit.bbit_update` (which is
+    :func:`mdfqm_model.update.mdfqm_update` for mdfqm), called at the commit point; its
+    ``slots`` are the layout.
+
+    ``max_bits`` B in ``[1, min(12, width - 2)]``; ``long_latency`` defaults to
+    ``contract.resolution_latency(phases, max_bits)``. Extra inputs of :meth:`step`: ``mode``
+    (3-bit code, default 0 = mdfqm) and ``bits`` (4-bit, default 0); extra output
+    ``mode_clamped``.
+    """
+
+    OUTPUTS = GENERATOR_OUTPUTS
+    INPUTS = (*INPUTS, "mode", "bits")
+
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
+                 max_bits: int = 8, latency=None, long_latency=None):
+        Contract(phases, width)
+        self.max_bits = validate_max_bits(max_bits, width)
+        if long_latency is None:
+            long_latency = resolution_latency(phases, max_bits)
+        if (isinstance(long_latency, bool) or not isinstance(long_latency, (int, np.integer))
+                or long_latency < 2):
+            raise ValueError(f"long_latency must be an integer >= 2, not {long_latency!r}")
+        self.long_latency = int(long_latency)
+        super().__init__(phases, width, rule, latency)
+
+    def reset(self) -> None:
+        super().reset()
+        self.mode_lat = 0
+        self.bits_lat = 0
+        self.long_lat = 0
+        self.prev_bbit = 0
+        self.mode_clamped = 0
+        self.h_last = 0
+        self.slots: tuple[int, ...] = (0,)
+        self.slot_len = 1
+        self.slot_idx = 0
+        self.slot_pos = 0
+
+    def outputs(self) -> dict:
+        out = super().outputs()
+        out["mode_clamped"] = self.mode_clamped
+        return out
+
+    def _check_extra(self, extra: dict) -> dict:
+        unknown = set(extra) - {"mode", "bits"}
+        if unknown:
+            raise TypeError(f"GeneratorModel.step() got unexpected inputs {sorted(unknown)}")
+        mode = _uint(extra.get("mode", 0), MODE_WIDTH, "mode")
+        bits = _uint(extra.get("bits", 0), BITS_WIDTH, "bits")
+        return {"mode": mode, "bits": bits}
+
+    def _latch(self, period: int, extra: dict):
+        mode, b, clamped_mode = latch_mode(extra["mode"], extra["bits"], self.max_bits)
+        long = bool(mode != 0 or self.prev_bbit)
+        p_min = min_period(long, b, self.latency, self.long_latency)
+        self.mode_lat, self.bits_lat, self.long_lat = mode, b, int(long)
+        self.prev_bbit = int(mode != 0)
+        self.mode_clamped = int(clamped_mode)
+        p = max(period, p_min)
+        latency = self.long_latency if long else self.latency
+        return p, period < p_min, latency, (mode, b, p)
+
+    def _restart_latency(self) -> int:
+        return self.long_latency if self.long_lat else self.latency
+
+    def _advance_output(self) -> None:
+        if self.slot_idx + 1 < len(self.slots):
+            if self.slot_pos + 1 >= self.slot_len:
+                self.slot_idx += 1
+                self.slot_pos = 0
+                self.h = self.slots[self.slot_idx]
+            else:
+                self.slot_pos += 1
+
+    def _commit(self, x, r, policy, token) -> None:
+        mode, b, p = token
+        res = bbit_update(x, r, self.contract, MODES[mode], b, self.h_last, self.rule, policy)
+        self.x = res.x_next
+        self.saturated = int(res.saturated)
+        self.slots = res.slots
+        self.slot_len = p >> b
+        self.slot_idx = 0
+        self.slot_pos = 0
+        self.h = res.slots[0]
+        self.h_last = res.slots[-1]

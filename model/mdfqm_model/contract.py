@@ -84,6 +84,59 @@ All registers reset synchronously to zero. ``L = loop_latency(N, rule)`` clocks.
 - An update starting in cycle s computes ``T = X + R`` in cycle s; ``h``, the integrator, the
   ``saturated`` flag and a one-cycle ``update`` strobe all change together, visible in cycle
   ``s + L``. So ``P >= L`` guarantees every update sees the previous update's feedback.
+
+b-bit pulse-width resolution: the gating-signal generator
+---------------------------------------------------------
+The paper's general generator (its Sec. 3.1): MDFQM (b = 0), SVPWM, DPWM and any b between, in
+one component (RTL ``GatingSignalGenerator``, clock model :class:`mdfqm_model.clock.
+GeneratorModel`, per-update arithmetic :func:`mdfqm_model.bbit.bbit_update`). It contains the
+core's blocks (reference stage, integrators, sort1, MDFQM selection) and adds a quantiser and a
+slot layout; the MDFQM-only core does not contain them.
+
+- Elaboration parameter ``max_bits`` B in ``[1, min(MAX_BITS_LIMIT, width - 2)]`` (so that
+  ``S = 2**b <= FULL``): the largest resolution offered.
+- Runtime inputs, latched at each update start with ``period``, ``osr``, ``zero_policy``:
+  ``mode`` (MODE_WIDTH bits, the index into ``MODES``: 0 mdfqm, 1 svpwm, 2 dpwm0, 3 dpwm1,
+  4 dpwm = sector-dependent clamp) and ``bits`` (BITS_WIDTH bits, b). :func:`latch_mode`:
+  codes >= len(MODES) act as mdfqm; mdfqm uses b = 0 whatever ``bits`` says; a gamma mode with
+  ``bits`` outside ``[1, B]`` uses the nearest end. ``mode_clamped`` (registered at the start,
+  like ``period_clamped``) flags an illegal ``mode`` code or a clamped ``bits``.
+- Arithmetic of a gamma-mode update: :mod:`mdfqm_model.bbit` (duties with zero split gamma,
+  cumulative instants rounded half up to ``S`` slots and clamped, centred layout, mean feedback).
+  The gateware uses two identities of it (checked by the model's tests): the instant of the leg
+  at sorted position ``p`` telescopes to ``2 C_i = g2 NF + (2 - g2) max(T) + g2 min(T) - 2 T_i``
+  (``g2 = 2 gamma``), so the un-permuted per-leg instants need only sort1's extremes; and
+  ``q_i = floor(Q_i / 2**(B - b))`` with ``Q_i = floor(clamp(2 C_i + NF / S, 0, 2 NF) 2**B /
+  (2 NF))``, a (B+1)-bit quotient by the constant ``2 NF`` (one restoring step per clock, all
+  legs in parallel; for b < B its last B - b bits are forced to 0, which is the floor).
+  The integrators then take ``U`` in units of ``FULL / 2**B``: ``U_i = (FULL / 2**B)
+  (sum_k m_k - N m_i)``, ``m_i = q_i 2**(B - b)``; an MDFQM state's ``N h_i - k`` is scaled by
+  ``2**B``. Saturation (hold on leaving the ``x_width`` word) is unchanged.
+- Short and long updates: an update is *short* if its mode is mdfqm and the previous update's
+  mode was mdfqm (after reset the previous mode counts as mdfqm), else *long*. A short update is
+  exactly the core's (latency ``L``, minimum period ``L``, sync threshold ``phase + 1 >= L``),
+  so the generator with ``mode`` held at 0 is cycle-for-cycle the MDFQM core. A long update has
+  latency ``L_b = resolution_latency(N, B)``; its minimum period is ``max(L_b, 2**b)``
+  (b = 0 for an mdfqm update: ``L_b``), values below are used as that and flagged by
+  ``period_clamped``; its sync threshold is ``phase + 1 >= L_b``.
+- Presentation: the result of an update starting in cycle s (``h`` or the first slot of its
+  layout, the integrators, ``saturated``, the ``update`` strobe) is visible in cycle
+  ``s + L`` (short) or ``s + L_b`` (long). A layout of a gamma-mode update presented in cycle V
+  with latched period P and ``S = 2**b`` has slots of ``l = floor(P / S)`` clocks (``P >= S`` by
+  the clamp); slot ``j < S - 1`` covers cycles ``[V + j l, V + (j + 1) l)``, the last slot runs
+  from ``V + (S - 1) l`` until the next presentation (it absorbs the ``P - S l`` remainder
+  clocks; the feedback counts slots, so choose P a multiple of S for exactly equal slots). An
+  MDFQM state is held until the next presentation.
+- Switching modes (only ever at update boundaries, by the latch): a long update is presented
+  ``L_b`` after its start, i.e. exactly when the previous layout has run its whole period, so no
+  layout is cut short; going from mdfqm to a gamma mode the last MDFQM state is held
+  ``L_b - L`` clocks longer; going back, the first mdfqm update (long) is presented at ``s + L_b``
+  and the next (short) one at its ``s + L``, so that MDFQM state lasts ``P - (L_b - L) >= L``
+  clocks. Outputs change only at presentations and slot boundaries. (A ``sync_in`` restart
+  shortens the running layout like any period, as for the core.)
+- Zero policy: ``h_prev`` is the last state of the previously presented update (its ``h`` for
+  MDFQM, its last slot for a layout: the legs with ``q_i = 0``); 0 after reset. For the core this
+  is the ``h`` register, as before.
 """
 
 from __future__ import annotations
@@ -193,6 +246,63 @@ def loop_latency(phases: int, rule: str = "largest_duty") -> int:
     """
     check_rule(phases, rule)
     return 1 + len(sorting_network(phases)) + 1 + argmax_stages(phases) + 1 + 1
+
+
+#: generator modes, index = the ``mode`` input's code (see "b-bit pulse-width resolution")
+MODES = ("mdfqm", "svpwm", "dpwm0", "dpwm1", "dpwm")
+#: width of the generator's ``mode`` input
+MODE_WIDTH = 3
+#: width of the generator's ``bits`` input
+BITS_WIDTH = 4
+#: largest ``max_bits`` offered (4096 slots per update)
+MAX_BITS_LIMIT = 12
+
+
+def validate_max_bits(max_bits, width: int) -> int:
+    """``max_bits`` if it is an integer in ``[1, min(MAX_BITS_LIMIT, width - 2)]``."""
+    top = min(MAX_BITS_LIMIT, width - 2)
+    if isinstance(max_bits, bool) or not isinstance(max_bits, int) or not 1 <= max_bits <= top:
+        raise ValueError(
+            f"max_bits must be an integer in [1, {top}] for a {width}-bit reference "
+            f"(2**max_bits slots <= FULL, at most {MAX_BITS_LIMIT}), not {max_bits!r}")
+    return max_bits
+
+
+def resolution_latency(phases: int, max_bits: int) -> int:
+    """``L_b``: clocks from the start of a long update to its presentation.
+
+    1 (T = X + R) + depth(sort1) + 1 (max + min) + 1 (zero split and offsets) + 1 (per-leg
+    instants, clamp) + max_bits (restoring division, one quotient bit a clock)
+    + ceil(log2 N) (sums over the legs) + 1 (feedback) + 1 (integrator commit / presentation).
+    """
+    if isinstance(phases, bool) or not isinstance(phases, int) or phases < MIN_PHASES:
+        raise ValueError(f"phases must be an integer >= {MIN_PHASES}, not {phases!r}")
+    if isinstance(max_bits, bool) or not isinstance(max_bits, int) or max_bits < 1:
+        raise ValueError(f"max_bits must be an integer >= 1, not {max_bits!r}")
+    return 6 + len(sorting_network(phases)) + ceil_log2(phases) + max_bits
+
+
+def latch_mode(mode: int, bits: int, max_bits: int) -> tuple[int, int, bool]:
+    """The runtime clamp of the generator: ``(mode code, b, clamped)`` used for an update.
+
+    Codes ``>= len(MODES)`` act as mdfqm (flagged); mdfqm uses b = 0 (``bits`` ignored, not
+    flagged); a gamma mode uses ``min(max(bits, 1), max_bits)`` (flagged when that differs).
+    """
+    if not 0 <= mode < (1 << MODE_WIDTH) or not 0 <= bits < (1 << BITS_WIDTH):
+        raise ValueError(f"mode must be a {MODE_WIDTH}-bit and bits a {BITS_WIDTH}-bit code, "
+                         f"not {mode!r}, {bits!r}")
+    if mode >= len(MODES):
+        return 0, 0, True
+    if mode == 0:
+        return 0, 0, False
+    b = min(max(bits, 1), max_bits)
+    return mode, b, b != bits
+
+
+def min_period(long: bool, b: int, latency: int, long_latency: int) -> int:
+    """Smallest honoured period: ``latency`` for a short update, ``max(L_b, 2**b)`` for a long
+    one (b = 0 for mdfqm)."""
+    return max(long_latency, 1 << b) if long else latency
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import signed_bits
 
-from .params import contract_for
+from .params import contract_for, validate_positive
 
 
 class Integrator(wiring.Component):
@@ -27,26 +27,41 @@ class Integrator(wiring.Component):
     i_commit : In(1)
         Commit cycle: ``i_h``/``i_count`` hold this update's state.
     i_units : In(ArrayLayout(signed(units_width), phases))
-        Feedback of this update's state in units of ``FULL``: ``U_i / FULL = N h_i - k``
-        (valid with ``i_commit``).
+        Feedback of this update in units of ``2**unit_shift``: ``U_i / 2**unit_shift`` (for the
+        core ``unit_shift = width - 2``, so this is ``N h_i - k``), valid with ``i_commit``;
+        ``|U_i| <= (N - 1) FULL``.
     o_t : Out(ArrayLayout(signed(t_width), phases))
         Optimum signal of the current update (registered, valid from the cycle after a start).
     o_x : Out(ArrayLayout(signed(x_width), phases))
         Integrator state (a select between two registers by ``o_saturated``).
     o_saturated : Out(1)
         Registered at each commit: that update was held by the bound.
+
+    Parameters
+    ----------
+    phases, width : int
+        As the core's.
+    unit_shift : int in [0, width - 2] or None
+        The feedback comes in units of ``2**unit_shift`` (None: ``width - 2``, i.e. ``FULL``,
+        the core's). The generator uses ``width - 2 - max_bits``: the commit adds only the bits
+        from ``unit_shift`` up.
     """
 
-    def __init__(self, phases: int, width: int):
+    def __init__(self, phases: int, width: int, unit_shift: int | None = None):
         self.contract = contract_for(phases, width)
         self.phases = phases
         c = self.contract
+        if unit_shift is None:
+            unit_shift = width - 2
+        validate_positive(unit_shift, "unit_shift", minimum=0, maximum=width - 2)
+        self.unit_shift = unit_shift
+        units_max = (phases - 1) << (width - 2 - unit_shift)
+        self.units_width = signed_bits(-units_max, units_max)
         super().__init__({
             "i_start": In(1),
             "i_r": In(data.ArrayLayout(signed(c.r_width), phases)),
             "i_commit": In(1),
-            "i_units": In(data.ArrayLayout(signed(signed_bits(-(phases - 1), phases - 1)),
-                                           phases)),
+            "i_units": In(data.ArrayLayout(signed(self.units_width), phases)),
             "o_t": Out(data.ArrayLayout(signed(c.t_width), phases)),
             "o_x": Out(data.ArrayLayout(signed(c.x_width), phases)),
             "o_saturated": Out(1),
@@ -65,10 +80,11 @@ class Integrator(wiring.Component):
         with m.If(self.i_start):
             m.d.sync += [self.o_t[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
 
-        # U is a multiple of FULL = 2**shift, so X' = T - U keeps T's low bits and only the bits
-        # above them go through an adder. X' fits the signed x_width-bit word iff its bits above
-        # the word's sign bit are all copies of it: a few LUTs instead of two compare chains.
-        shift = c.width - 2
+        # U is a multiple of 2**shift (FULL in the core), so X' = T - U keeps T's low bits and
+        # only the bits above them go through an adder. X' fits the signed x_width-bit word iff
+        # its bits above the word's sign bit are all copies of it: a few LUTs instead of two
+        # compare chains.
+        shift = self.unit_shift
         fits_each = []
         for i in range(n):
             high = Signal(signed(c.t_width + 1 - shift), name=f"x_next{i}_high")

@@ -1,8 +1,10 @@
 """Update sequencer: an update every P clocks, a sampling tick every OSR updates."""
 
-from amaranth import Module, Mux, Signal
+from amaranth import Array, Const, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
+
+from mdfqm_model.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period
 
 from .params import validate_positive
 
@@ -35,21 +37,51 @@ class UpdateSequencer(wiring.Component):
     period_clamped : Out(1)
         ``period < latency`` at the last update start (registered).
 
+    With ``long_latency`` (the gating-signal generator, :mod:`mdfqm_model.contract` section
+    "b-bit pulse-width resolution") the sequencer also latches ``mode`` and ``bits`` with the
+    runtime clamp of ``contract.latch_mode``, decides whether the update is *long* (its mode is
+    not mdfqm, or the previous update's was not), and then honours the minimum period
+    ``contract.min_period`` and the sync threshold of that kind of update. Without it the ports
+    below marked "generator" do not exist and the logic is the core's.
+
+    Ports (generator only)
+    ----------------------
+    mode : In(MODE_WIDTH)
+        Requested mode code; sampled at update starts.
+    bits : In(BITS_WIDTH)
+        Requested resolution b; sampled at update starts.
+    mode_lat : Out(MODE_WIDTH)
+        Mode of the current update (registered at its start, after the clamp).
+    bits_lat : Out(BITS_WIDTH)
+        b of the current update (0 for mdfqm; registered).
+    long : Out(1)
+        The current update is long (registered).
+    p_lat : Out(period_width)
+        Period P of the current update, after the clamp (registered).
+    mode_clamped : Out(1)
+        The last start's ``mode`` was illegal or its ``bits`` was clamped (registered).
+
     Parameters
     ----------
     latency : int >= 2
-        The loop latency: the smallest period that is honoured.
+        The loop latency: the smallest period that is honoured (of a short update).
     period_width, osr_width : int
         Widths of the runtime inputs.
+    long_latency : int or None
+        Latency of a long update (>= latency); None: the core's sequencer.
+    max_bits : int
+        Largest b (generator only).
     """
 
-    def __init__(self, latency: int, period_width: int = 16, osr_width: int = 8):
+    def __init__(self, latency: int, period_width: int = 16, osr_width: int = 8,
+                 long_latency: int | None = None, max_bits: int = 1):
         validate_positive(latency, "latency", minimum=2)
         validate_positive(period_width, "period_width", minimum=latency.bit_length(), maximum=32)
         validate_positive(osr_width, "osr_width", maximum=16)
         self.latency = latency
         self.period_width, self.osr_width = period_width, osr_width
-        super().__init__({
+        self.long_latency = long_latency
+        ports = {
             "period": In(period_width),
             "osr": In(osr_width),
             "zero_policy": In(1),
@@ -58,7 +90,24 @@ class UpdateSequencer(wiring.Component):
             "tick": Out(1),
             "policy": Out(1),
             "period_clamped": Out(1),
-        })
+        }
+        if long_latency is not None:
+            validate_positive(long_latency, "long_latency", minimum=latency)
+            validate_positive(max_bits, "max_bits", minimum=1, maximum=(1 << BITS_WIDTH) - 1)
+            if max(long_latency, 1 << max_bits).bit_length() > period_width:
+                raise ValueError(f"period_width must hold the longest minimum period "
+                                 f"{max(long_latency, 1 << max_bits)}, not {period_width}")
+            self.max_bits = max_bits
+            ports.update({
+                "mode": In(MODE_WIDTH),
+                "bits": In(BITS_WIDTH),
+                "mode_lat": Out(MODE_WIDTH),
+                "bits_lat": Out(BITS_WIDTH),
+                "long": Out(1),
+                "p_lat": Out(period_width),
+                "mode_clamped": Out(1),
+            })
+        super().__init__(ports)
 
     def elaborate(self, platform):
         m = Module()
@@ -71,14 +120,18 @@ class UpdateSequencer(wiring.Component):
         start_q, tick_q = Signal(init=1), Signal(init=1)
         m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q)]
 
-        clamped = self.period < self.latency
+        if self.long_latency is None:
+            clamped = self.period < self.latency
+            minimum_m2 = self.latency - 2
+            restart = self.sync_in & (phase >= self.latency - 1)
+        else:
+            clamped, minimum_m2, restart = self._generator_latch(m, phase)
         osr_now = Mux(self.osr == 0, 1, self.osr)
-        restart = self.sync_in & (phase >= self.latency - 1)
         # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
         ends = ~self.start & (restart | (left == 0))
         m.d.sync += [
             phase.eq(Mux(self.start, 1, phase + 1)),
-            left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2), left - 1)),
+            left.eq(Mux(self.start, Mux(clamped, minimum_m2, self.period - 2), left - 1)),
             start_q.eq(ends),
             tick_q.eq(ends & (sub == 0)),     # sub only moves in start cycles
         ]
@@ -89,3 +142,34 @@ class UpdateSequencer(wiring.Component):
                 self.policy.eq(self.zero_policy),
             ]
         return m
+
+    def _generator_latch(self, m, phase):
+        """Mode/bits clamp, short/long decision and the minimum period of the update starting
+        now: returns (period clamped, minimum period - 2, sync restart)."""
+        big, short = self.long_latency, self.latency
+        legal = self.mode < len(MODES)
+        mode_now = Mux(legal, self.mode, 0)
+        bbit_now = mode_now != 0
+        bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.bits))
+        b_now = Mux(bbit_now, bits_now, 0)
+        prev_bbit = Signal()
+        long_now = bbit_now | prev_bbit
+        # minimum period of a long update for each b: constants, so only a table lookup sits in
+        # front of the comparator (and of the load of the down-counter)
+        table = [min_period(True, b, short, big) for b in range(self.max_bits + 1)]
+        long_min = Array(Const(v, self.period_width) for v in table)[b_now]
+        long_min_m2 = Array(Const(v - 2, self.period_width) for v in table)[b_now]
+        minimum = Mux(long_now, long_min, short)
+        clamped = self.period < minimum
+        minimum_m2 = Mux(long_now, long_min_m2, short - 2)
+        restart = self.sync_in & Mux(self.long, phase >= big - 1, phase >= short - 1)
+        with m.If(self.start):
+            m.d.sync += [
+                prev_bbit.eq(bbit_now),
+                self.long.eq(long_now),
+                self.mode_lat.eq(mode_now),
+                self.bits_lat.eq(b_now),
+                self.p_lat.eq(Mux(clamped, minimum, self.period)),
+                self.mode_clamped.eq(~legal | (bbit_now & (bits_now != self.bits))),
+            ]
+        return clamped, minimum_m2, restart

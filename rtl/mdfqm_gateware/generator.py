@@ -1,0 +1,186 @@
+"""The gating-signal generator: MDFQM, SVPWM, DPWM and any b-bit resolution between them."""
+
+from amaranth import Module, Mux, Signal, signed
+from amaranth.lib import data, stream, wiring
+from amaranth.lib.wiring import In, Out, connect
+
+from mdfqm_model.contract import (
+    BITS_WIDTH,
+    MODE_WIDTH,
+    loop_latency,
+    resolution_latency,
+    validate_max_bits,
+)
+
+from .integrator import Integrator
+from .params import contract_for, validate_rule
+from .reference import ReferenceStage
+from .resolution import Quantiser, SlotLayout
+from .selector import ArgMax, Candidates, StateDecoder, candidate_width
+from .sequencer import UpdateSequencer
+from .sort import SortNetwork
+
+__all__ = ["GatingSignalGenerator"]
+
+
+class GatingSignalGenerator(wiring.Component):
+    """The paper's general gating-signal generator (its Sec. 3.1): each update period is split
+    into ``S = 2**b`` slots, the staircase duties are quantised to whole slots and the error is
+    fed back through the integrators; ``mode`` selects MDFQM (b = 0, the core), SVPWM
+    (gamma = 1/2, centred 0-V1-V2-7-7-V2-V1-0), DPWM0 / DPWM1 (gamma = 0 / 1) or DPWM with the
+    sector-dependent clamp, ``bits`` the resolution b; both are switched at runtime, at update
+    boundaries.
+
+    It contains the MDFQM core's blocks (reference stage, integrators, sort1, candidates, sort2,
+    decoder; one sort network and one integrator bank serve every mode) plus a
+    :class:`~.resolution.Quantiser` and a :class:`~.resolution.SlotLayout`. With ``mode`` held at
+    0 it is, cycle for cycle and bit for bit, :class:`~.core.MdfqmCore`. Every bit and clock
+    follows :mod:`mdfqm_model.contract` (section "b-bit pulse-width resolution") and is
+    predicted by :class:`mdfqm_model.clock.GeneratorModel`.
+
+    Ports
+    -----
+    ref, period, osr, zero_policy, sync_in, start, sample, saturated
+        As :class:`~.core.MdfqmCore`'s (the minimum period and the sync threshold depend on the
+        kind of update: see ``period_clamped`` and the contract).
+    mode : In(MODE_WIDTH)
+        0 mdfqm, 1 svpwm, 2 dpwm0, 3 dpwm1, 4 dpwm (sector clamp); 5..7 act as 0 and are flagged
+        by ``mode_clamped``. Sampled at each update start.
+    bits : In(BITS_WIDTH)
+        b for the modes 1..4, used clamped to ``[1, max_bits]`` (flagged); ignored by mdfqm.
+        Sampled at each update start.
+    h : Out(phases)
+        Gate state, bit i = upper switch of leg i on. Changes at ``update`` and, in a gamma mode,
+        at the slot boundaries of the layout that ``update`` began.
+    update : Out(1)
+        One-clock strobe: the update's result (``h`` = its state or its first slot,
+        ``saturated``) is visible this cycle; ``latency`` (short updates) or ``long_latency``
+        (long ones) after its start.
+    period_clamped : Out(1)
+        The period requested at the last start was below that update's minimum (``latency``
+        for a short update, ``max(long_latency, 2**b)`` for a long one).
+    mode_clamped : Out(1)
+        The last start's ``mode`` was illegal or its ``bits`` was clamped.
+
+    Parameters
+    ----------
+    phases, width, rule
+        As :class:`~.core.MdfqmCore`'s.
+    max_bits : int in [1, min(12, width - 2)]
+        Largest resolution b offered (2**max_bits slots per update).
+
+    Attributes
+    ----------
+    latency : int
+        Latency (and minimum period) of a short update: the core's (8 for three phases).
+    long_latency : int
+        Latency of a long update (19 for three phases and max_bits = 8).
+    """
+
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
+                 max_bits: int = 8):
+        self.contract = contract_for(phases, width)
+        self.rule = validate_rule(rule)
+        self.max_bits = validate_max_bits(max_bits, width)
+        self.phases, self.width = phases, width
+        self.latency = loop_latency(phases, rule)
+        self.long_latency = resolution_latency(phases, max_bits)
+        super().__init__({
+            "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
+            "period": In(16),
+            "osr": In(8),
+            "zero_policy": In(1),
+            "sync_in": In(1),
+            "mode": In(MODE_WIDTH),
+            "bits": In(BITS_WIDTH),
+            "h": Out(phases),
+            "update": Out(1),
+            "start": Out(1),
+            "sample": Out(1),
+            "saturated": Out(1),
+            "period_clamped": Out(1),
+            "mode_clamped": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        n, c, big = self.phases, self.contract, self.max_bits
+        m.submodules.sequencer = sequencer = UpdateSequencer(
+            self.latency, long_latency=self.long_latency, max_bits=big)
+        m.submodules.reference = reference = ReferenceStage(n, self.width)
+        m.submodules.integrator = integrator = Integrator(n, self.width,
+                                                          unit_shift=self.width - 2 - big)
+        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width)
+        m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
+        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width))
+        m.submodules.decoder = decoder = StateDecoder(n)
+        m.submodules.quantiser = quantiser = Quantiser(n, self.width, big)
+        m.submodules.layout = layout = SlotLayout(n, big, len(self.period))
+        assert 2 + sort1.latency + quantiser.latency == self.long_latency
+        assert 2 + sort1.latency + candidates.latency + sort2.latency + decoder.latency \
+            == self.latency
+
+        h_last = Signal(n)          # last state of the last presented update (zero policy)
+        slot_len = Signal(len(self.period))
+        slot_m1 = Signal(len(self.period))
+        bbit = sequencer.mode_lat != 0
+        commit = Mux(sequencer.long, quantiser.o_valid, decoder.o_valid)
+
+        connect(m, wiring.flipped(self.ref), reference.ref)
+        m.d.comb += [
+            sequencer.period.eq(self.period),
+            sequencer.osr.eq(self.osr),
+            sequencer.zero_policy.eq(self.zero_policy),
+            sequencer.sync_in.eq(self.sync_in),
+            sequencer.mode.eq(self.mode),
+            sequencer.bits.eq(self.bits),
+            reference.tick.eq(sequencer.tick),
+            integrator.i_start.eq(sequencer.start),
+            integrator.i_r.eq(reference.r),
+            sort1.i_values.eq(integrator.o_t),
+            candidates.i_rho.eq(sort1.o_values),
+            candidates.i_valid.eq(sort1.o_valid),
+            sort2.i_values.eq(candidates.o_values),
+            sort2.i_valid.eq(candidates.o_valid),
+            decoder.i_perm.eq(sort1.o_index),
+            decoder.i_j.eq(sort2.o_index),
+            decoder.i_policy.eq(sequencer.policy),
+            decoder.i_h_prev.eq(h_last),
+            decoder.i_valid.eq(sort2.o_valid),
+            quantiser.i_t.eq(integrator.o_t),
+            quantiser.i_max.eq(sort1.o_values[0]),
+            quantiser.i_min.eq(sort1.o_values[n - 1]),
+            # only long updates run the quantiser: a short one may end before it would finish
+            quantiser.i_valid.eq(sort1.o_valid & sequencer.long),
+            quantiser.i_mode.eq(sequencer.mode_lat),
+            quantiser.i_bits.eq(sequencer.bits_lat),
+            integrator.i_commit.eq(commit),
+            [integrator.i_units[i].eq(Mux(bbit, quantiser.o_units[i],
+                                          decoder.o_units[i] * (1 << big)))
+             for i in range(n)],
+            layout.i_load.eq(commit),
+            layout.i_bbit.eq(bbit),
+            layout.i_h.eq(decoder.o_h),
+            layout.i_first.eq(quantiser.o_first),
+            layout.i_lo.eq(quantiser.o_lo),
+            layout.i_hi.eq(quantiser.o_hi),
+            layout.i_slots.eq(quantiser.o_slots),
+            layout.i_delta.eq(quantiser.o_delta),
+            layout.i_slot_m1.eq(slot_m1),
+            self.h.eq(layout.o_h),
+            self.start.eq(sequencer.start),
+            self.sample.eq(sequencer.tick),
+            self.saturated.eq(integrator.o_saturated),
+            self.period_clamped.eq(sequencer.period_clamped),
+            self.mode_clamped.eq(sequencer.mode_clamped),
+        ]
+        m.d.sync += [
+            sort1.i_valid.eq(sequencer.start),
+            self.update.eq(commit),
+            # slot length of the update in flight: P and b are still from its start on
+            slot_len.eq(sequencer.p_lat >> sequencer.bits_lat),
+            slot_m1.eq(slot_len - 1),
+        ]
+        with m.If(commit):
+            m.d.sync += h_last.eq(Mux(bbit, quantiser.o_last, decoder.o_h))
+        return m

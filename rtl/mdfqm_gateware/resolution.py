@@ -1,0 +1,343 @@
+"""b-bit pulse-width resolution: the quantiser of the slot counts and the slot layout.
+
+Both follow :mod:`mdfqm_model.contract` (section "b-bit pulse-width resolution: the
+gating-signal generator") and :mod:`mdfqm_model.bbit`; :class:`mdfqm_model.clock.GeneratorModel`
+predicts every bit of them on every clock, through :class:`GatingSignalGenerator`.
+"""
+
+from amaranth import Array, Cat, Const, Module, Mux, Signal, signed, unsigned
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from mdfqm_model.contract import (
+    BITS_WIDTH,
+    MAX_BITS_LIMIT,
+    MODE_WIDTH,
+    MODES,
+    ceil_log2,
+    signed_bits,
+    validate_max_bits,
+)
+
+from .params import contract_for, validate_positive
+
+__all__ = ["Quantiser", "SlotLayout"]
+
+SVPWM, DPWM0, DPWM1, DPWM = (MODES.index(name) for name in ("svpwm", "dpwm0", "dpwm1", "dpwm"))
+
+
+def _lookup(values, index, shape):
+    """``values[index]`` as a table of constants (indices past the end read the last entry)."""
+    padded = list(values) + [values[-1]] * ((1 << len(index)) - len(values))
+    return Array(Const(v, shape) for v in padded)[index]
+
+
+def _table(m, values, index, shape, name):
+    """A registered lookup ``values[index]`` (``index`` changes only at update starts)."""
+    out = Signal(shape, name=name)
+    m.d.sync += out.eq(_lookup(values, index, shape))
+    return out
+
+
+def _sum_tree(m, terms, stages, shape, name):
+    """Registered binary adder tree over ``terms`` in exactly ``stages`` clocks (one adder, i.e.
+    one carry chain, per stage; short branches are padded with plain registers)."""
+    level = list(terms)
+    for stage in range(stages):
+        nxt = []
+        for k in range(0, len(level), 2):
+            pair = level[k:k + 2]
+            reg = Signal(shape, name=f"{name}_s{stage}_{k // 2}")
+            m.d.sync += reg.eq(pair[0] + pair[1] if len(pair) == 2 else pair[0])
+            nxt.append(reg)
+        level = nxt
+    if len(level) != 1:
+        raise ValueError(f"{name}: {len(terms)} terms do not fit {stages} stages")
+    return level[0]
+
+
+class Quantiser(wiring.Component):
+    """Slot counts of one gamma-mode update, their mean feedback and the centred layout bounds.
+
+    Arithmetic (contract, "b-bit pulse-width resolution"; ``NF = N FULL``, ``B = max_bits``,
+    ``S = 2**b``), all legs in parallel, every stage at most one carry chain:
+
+    1. ``max(T) + min(T)`` (the sector of the dpwm clamp);
+    2. the zero split ``g2 = 2 gamma`` of the mode, and the per-update offsets
+       ``g2 NF + (2 - g2) max + g2 min + NF / S`` and the same minus ``2 NF``;
+    3. per leg ``V_i = offset - 2 T_i`` (= ``2 C_i + NF / S``, the leg's rounded switching
+       instant) and the clamp to ``[0, 2 NF]`` (``V_i >= 2 NF``: the top quotient bit);
+    4. ``B`` clocks of restoring division by the constant ``2 NF`` (one quotient bit a clock;
+       after ``b`` bits the rest are forced to 0): ``m_i = q_i 2**(B - b)``;
+    5. ``ceil(log2 N)`` clocks of sums over the legs (``sum m``, ``N m_i``), and alongside
+       the layout bounds ``lo_i = floor(q_i / 2) 2**(B - b)``, ``hi_i = lo_i + (2**B - m_i)``;
+    6. the feedback ``U_i / (FULL / 2**B) = sum_k m_k - N m_i``.
+
+    Slot indices are scaled to ``2**B`` (slot ``j`` is ``j 2**(B - b)``), so no shift by the
+    runtime ``b`` is needed anywhere but in small registered tables.
+
+    Ports
+    -----
+    i_t : In(ArrayLayout(signed(t_width), phases))
+        ``T`` of the update (the integrators' output; still from the start to the result).
+    i_max, i_min : In(signed(t_width))
+        ``max(T)`` and ``min(T)`` (sort1's first and last output).
+    i_valid : In(1)
+        Strobe: ``i_max``/``i_min`` are this update's (sort1's valid).
+    i_mode : In(MODE_WIDTH)
+        Mode code of the update (latched; still through the update).
+    i_bits : In(BITS_WIDTH)
+        b of the update, in ``[1, max_bits]`` for a gamma mode (latched; still).
+    o_units : Out(ArrayLayout(signed(units_width), phases))
+        ``sum_k m_k - N m_i``: the feedback in units of ``FULL / 2**B``; valid with ``o_valid``.
+    o_lo, o_hi : Out(ArrayLayout(unsigned(max_bits + 1), phases))
+        Leg i is on in the slots with scaled index ``lo_i <= j < hi_i``; valid with ``o_valid``.
+    o_first : Out(phases)
+        State of the first slot (``lo_i == 0``); valid with ``o_valid``.
+    o_last : Out(phases)
+        State of the last slot (``q_i == 0``); valid with ``o_valid``.
+    o_slots : Out(max_bits)
+        ``S - 1`` (registered table of ``i_bits``).
+    o_delta : Out(max_bits + 1)
+        ``2**(B - b)``: one slot in scaled units (registered table of ``i_bits``).
+    o_valid : Out(1)
+        ``i_valid`` delayed by ``latency`` clocks.
+
+    Parameters
+    ----------
+    phases, width : int
+        As the core's.
+    max_bits : int in [1, min(12, width - 2)]
+        B, the largest resolution.
+
+    Attributes
+    ----------
+    latency : int
+        ``4 + max_bits + ceil(log2 phases)`` clocks from ``i_valid`` to ``o_valid``.
+    """
+
+    def __init__(self, phases: int, width: int, max_bits: int):
+        self.contract = contract_for(phases, width)
+        self.max_bits = validate_max_bits(max_bits, width)
+        self.phases, self.width = phases, width
+        units_max = (phases - 1) << max_bits
+        self.units_width = signed_bits(-units_max, units_max)
+        c = self.contract
+        index = unsigned(max_bits + 1)
+        super().__init__({
+            "i_t": In(data.ArrayLayout(signed(c.t_width), phases)),
+            "i_max": In(signed(c.t_width)),
+            "i_min": In(signed(c.t_width)),
+            "i_valid": In(1),
+            "i_mode": In(MODE_WIDTH),
+            "i_bits": In(BITS_WIDTH),
+            "o_units": Out(data.ArrayLayout(signed(self.units_width), phases)),
+            "o_lo": Out(data.ArrayLayout(index, phases)),
+            "o_hi": Out(data.ArrayLayout(index, phases)),
+            "o_first": Out(phases),
+            "o_last": Out(phases),
+            "o_slots": Out(max_bits),
+            "o_delta": Out(max_bits + 1),
+            "o_valid": Out(1),
+        })
+
+    @property
+    def latency(self) -> int:
+        return 4 + self.max_bits + ceil_log2(self.phases)
+
+    def elaborate(self, platform):
+        m = Module()
+        n, c, big = self.phases, self.contract, self.max_bits
+        nf = c.unit
+        div = 2 * nf
+        tree = ceil_log2(n)
+        b_range = range(big + 1)
+
+        # ---- per-update constants of b (registered lookups; b is still through the update)
+        wide = signed(c.t_width + 3)
+        k_tab = [_table(m, [g * nf + (nf >> b) for b in b_range], self.i_bits, wide, f"k{g}")
+                 for g in range(3)]
+        km_tab = [_table(m, [g * nf + (nf >> b) - div for b in b_range], self.i_bits, wide,
+                         f"km{g}") for g in range(3)]
+        lo_mask = _table(m, [((1 << (big + 1)) - 1) & ~((1 << (big - b)) - 1) for b in b_range],
+                         self.i_bits, unsigned(big + 1), "lo_mask")
+        m.d.sync += [
+            self.o_slots.eq(_lookup([(1 << b) - 1 for b in b_range], self.i_bits,
+                                    unsigned(big))),
+            self.o_delta.eq(_lookup([1 << (big - b) for b in b_range], self.i_bits,
+                                    unsigned(big + 1))),
+        ]
+
+        # ---- stage 1: the sector sum
+        sum_mm = Signal(signed(c.t_width + 1))
+        m.d.sync += sum_mm.eq(self.i_max + self.i_min)
+
+        # ---- stage 2: zero split and the per-update offsets (one adder each, in parallel)
+        g_one = self.i_mode == SVPWM
+        g_zero = (self.i_mode == DPWM0) | ((self.i_mode == DPWM) & ~sum_mm[-1])
+        sel = Mux(g_one, sum_mm, Mux(g_zero, self.i_max * 2, self.i_min * 2))
+        k_sel = Mux(g_one, k_tab[1], Mux(g_zero, k_tab[0], k_tab[2]))
+        km_sel = Mux(g_one, km_tab[1], Mux(g_zero, km_tab[0], km_tab[2]))
+        offset, offset_m = Signal(wide), Signal(wide)
+        m.d.sync += [offset.eq(sel + k_sel), offset_m.eq(sel + km_sel)]
+
+        # ---- stage 3: per-leg instants, clamped, loaded into the divider
+        valid = [self.i_valid]
+        for k in range(self.latency):
+            reg = Signal(name=f"valid{k + 1}")
+            m.d.sync += reg.eq(valid[-1])
+            valid.append(reg)
+        load = valid[2]
+        rem_shape = unsigned(div.bit_length())
+        run = Signal(range(big + 1))
+        want = Signal(range(big + 1))
+        with m.If(load):
+            m.d.sync += [run.eq(big), want.eq(self.i_bits)]
+        with m.Elif(run != 0):
+            m.d.sync += [run.eq(run - 1), want.eq(Mux(want != 0, want - 1, 0))]
+        quotients = []
+        for i in range(n):
+            t2 = self.i_t[i] * 2
+            v = Signal(wide, name=f"v{i}")
+            v_m = Signal(wide, name=f"v{i}_m")
+            m.d.comb += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
+            top = Signal(name=f"top{i}")
+            rem = Signal(rem_shape, name=f"rem{i}")
+            q = Signal(big, name=f"q{i}")
+            # ---- stage 4: B restoring steps, 2 rem - 2NF, one carry chain a clock
+            trial = Signal(signed(rem_shape.width + 2), name=f"trial{i}")
+            m.d.comb += trial.eq((rem << 1) - div)
+            fits = ~trial[-1]
+            with m.If(load):
+                m.d.sync += [
+                    top.eq(~v_m[-1]),
+                    rem.eq(Mux(v[-1] | ~v_m[-1], 0, v)),
+                    q.eq(0),
+                ]
+            with m.Elif(run != 0):
+                m.d.sync += [
+                    rem.eq(Mux(fits, trial, rem << 1)),
+                    q.eq(Cat(fits & (want != 0), q[:-1]) if big > 1 else fits & (want != 0)),
+                ]
+            quotients.append(Cat(q, top))
+
+        # ---- stage 5: sums over the legs, layout bounds
+        count = unsigned((n << big).bit_length())
+        total = _sum_tree(m, quotients, tree, count, "sum")
+        times_n = []
+        for i in range(n):
+            terms = [quotients[i] << k for k in range(n.bit_length()) if (n >> k) & 1]
+            times_n.append(_sum_tree(m, terms, tree, count, f"n_times_m{i}"))
+        for i in range(n):
+            lo = Signal(unsigned(big + 1), name=f"lo{i}")
+            on = Signal(unsigned(big + 1), name=f"on{i}")
+            hi = Signal(unsigned(big + 1), name=f"hi{i}")
+            last = Signal(name=f"last{i}")
+            m.d.sync += [
+                lo.eq((quotients[i] >> 1) & lo_mask),
+                on.eq((1 << big) - quotients[i]),
+                hi.eq(lo + on),
+                last.eq(quotients[i] == 0),
+            ]
+            m.d.comb += [
+                self.o_lo[i].eq(lo),
+                self.o_hi[i].eq(hi),
+                self.o_first[i].eq(lo == 0),
+                self.o_last[i].eq(last),
+            ]
+            # ---- stage 6: the feedback
+            m.d.sync += self.o_units[i].eq(total - times_n[i])
+        m.d.comb += self.o_valid.eq(valid[-1])
+        return m
+
+
+class SlotLayout(wiring.Component):
+    """The gate state: an MDFQM state held, or a slot layout played out clock by clock.
+
+    At ``i_load`` (registered: the new output is visible in the next cycle) it takes either the
+    constant state ``i_h`` (``i_bbit = 0``) or a layout: slots of ``i_slot_m1 + 1`` clocks,
+    ``i_slots + 1`` of them, the last one held until the next load; leg i on in the slots with
+    scaled index ``i_lo[i] <= j < i_hi[i]`` (``j`` advances by ``i_delta``). The state changes
+    only at loads and slot boundaries: at a boundary into slot ``j`` a leg turns off if
+    ``j == hi``, else on if ``j == lo`` (equality of registers, no comparator chain).
+
+    Ports
+    -----
+    i_load : In(1)
+        Load the next update's output (an update's presentation is the next cycle).
+    i_bbit : In(1)
+        With ``i_load``: 1 a layout, 0 the constant state ``i_h``.
+    i_h : In(phases)
+        The MDFQM state.
+    i_first : In(phases)
+        State of the layout's first slot.
+    i_lo, i_hi : In(ArrayLayout(unsigned(max_bits + 1), phases))
+        Layout bounds in scaled slot indices.
+    i_slots : In(max_bits)
+        Number of slots after the first (``S - 1``).
+    i_delta : In(max_bits + 1)
+        One slot in scaled indices.
+    i_slot_m1 : In(period_width)
+        Clocks per slot minus one.
+    o_h : Out(phases)
+        Gate state (registered; 0 after reset).
+
+    Parameters
+    ----------
+    phases : int >= 3
+    max_bits : int in [1, MAX_BITS_LIMIT]
+    period_width : int in [2, 32]
+    """
+
+    def __init__(self, phases: int, max_bits: int, period_width: int = 16):
+        validate_positive(phases, "phases", minimum=3)
+        validate_positive(max_bits, "max_bits", minimum=1, maximum=MAX_BITS_LIMIT)
+        validate_positive(period_width, "period_width", minimum=2, maximum=32)
+        self.phases, self.max_bits, self.period_width = phases, max_bits, period_width
+        index = unsigned(max_bits + 1)
+        super().__init__({
+            "i_load": In(1),
+            "i_bbit": In(1),
+            "i_h": In(phases),
+            "i_first": In(phases),
+            "i_lo": In(data.ArrayLayout(index, phases)),
+            "i_hi": In(data.ArrayLayout(index, phases)),
+            "i_slots": In(max_bits),
+            "i_delta": In(max_bits + 1),
+            "i_slot_m1": In(period_width),
+            "o_h": Out(phases),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        n, big = self.phases, self.max_bits
+        lo = [Signal(big + 1, name=f"lo{i}") for i in range(n)]
+        hi = [Signal(big + 1, name=f"hi{i}") for i in range(n)]
+        nxt = Signal(big + 1)            # scaled index of the next slot
+        delta = Signal(big + 1)
+        left = Signal(big)               # slots still to begin
+        count = Signal(self.period_width)  # clocks left in this slot, minus one
+        slot_m1 = Signal(self.period_width)
+        advance = (count == 0) & (left != 0)
+        with m.If(self.i_load):
+            m.d.sync += [lo[i].eq(self.i_lo[i]) for i in range(n)]
+            m.d.sync += [hi[i].eq(self.i_hi[i]) for i in range(n)]
+            m.d.sync += [
+                self.o_h.eq(Mux(self.i_bbit, self.i_first, self.i_h)),
+                nxt.eq(self.i_delta),
+                delta.eq(self.i_delta),
+                left.eq(Mux(self.i_bbit, self.i_slots, 0)),
+                count.eq(self.i_slot_m1),
+                slot_m1.eq(self.i_slot_m1),
+            ]
+        with m.Elif(advance):
+            m.d.sync += [
+                nxt.eq(nxt + delta),
+                left.eq(left - 1),
+                count.eq(slot_m1),
+                self.o_h.eq(Cat(*[Mux(nxt == hi[i], 0, Mux(nxt == lo[i], 1, self.o_h[i]))
+                                  for i in range(n)])),
+            ]
+        with m.Elif(count != 0):
+            m.d.sync += count.eq(count - 1)
+        return m

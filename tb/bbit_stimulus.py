@@ -1,0 +1,128 @@
+"""Closed-loop stimulus for the gating-signal generator, shared by the per-cycle cocotb tests
+(tb/test_bbit.py) and the vector-file run (tb/test_bbit_vectors.py).
+
+As in core_stimulus: the stream source reacts to the model's ``ready`` like a real producer,
+and every cycle's expected outputs come from :class:`mdfqm_model.clock.GeneratorModel`.
+Scenarios:
+
+- one per mode (``mdfqm``, ``svpwm``, ``dpwm0``, ``dpwm1``, ``dpwm``): that mode held, ``bits``
+  moving among ``bits_choices`` at random cycles (taken at the next update start), periods at
+  the minimum, at multiples of ``2**b`` and with remainder clocks, OSR and zero policy moving;
+- ``switch``: mode and bits (illegal codes included), period (below the minimum included), OSR,
+  sync_in and resets all changing at random cycles;
+- ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
+  in random modes;
+- :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
+  ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
+"""
+
+import math
+
+import core_stimulus
+from core_stimulus import linear_amplitude, sine_codes
+from harness import pack
+from mdfqm_model.clock import GeneratorModel
+from mdfqm_model.contract import MODES, min_period
+
+#: port name -> model output name
+OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped"}
+SCENARIOS = (*MODES, "switch", "overmod", "extremes")
+INPUTS = ("rst", "ref__valid", "ref__payload", "period", "osr", "zero_policy", "sync_in",
+          "mode", "bits")
+
+
+def _period_for(rng, model, mode, b):
+    """A period for (mode, b): the minimum, a multiple of 2**b, or one with remainder clocks."""
+    if mode == 0:
+        return rng.choice([model.latency, model.latency, model.latency + 1,
+                           2 * model.latency + 3])
+    s = 1 << b
+    low = min_period(True, b, model.latency, model.long_latency)
+    choices = [low, s * max(1, -(-low // s)), low + rng.randint(1, max(1, s - 1))]
+    if s < low:
+        choices.append(low + s * rng.randint(0, 2))
+    return rng.choice(choices)
+
+
+def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3, 6),
+             segment=1500):
+    """Closed-loop stimulus for ``scenario``; returns (inputs per cycle, expected outputs per
+    cycle, the model's trace of latched modes per cycle)."""
+    if scenario not in SCENARIOS:
+        raise ValueError(f"scenario must be one of {SCENARIOS}, not {scenario!r}")
+    n = contract.phases
+    model = GeneratorModel(n, contract.width, rule, max_bits)
+    lin = linear_amplitude(n)
+    mode = MODES.index(scenario) if scenario in MODES else 1
+    bits = rng.choice(bits_choices)
+    period = _period_for(rng, model, mode, bits)
+    osr, policy = rng.choice([1, 2, 4]), rng.randint(0, 1)
+    angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
+    amplitude, offset = 0.9 * lin, 0.0
+    offered = None
+    next_change = rng.randint(1, segment)
+    stim = {name: [] for name in INPUTS}
+    expected = {name: [] for name in OUTPUTS}
+    trace = {"mode": [], "long": [], "start": [], "update": [], "rst": []}
+    for cycle in range(cycles):
+        rst = 0
+        if cycle == next_change:                    # runtime settings move, at random cycles
+            next_change += rng.randint(segment // 3, segment)
+            policy = rng.randint(0, 1)
+            osr = rng.choice([1, 2, 4, 1])
+            if scenario in MODES:
+                bits = rng.choice(bits_choices)
+                amplitude = rng.uniform(0.05, 1.0) * lin
+                offset = rng.uniform(-0.3, 0.3)
+            elif scenario in ("overmod", "extremes"):
+                mode = rng.randint(0, len(MODES) - 1)
+                bits = rng.choice(bits_choices)
+                amplitude = rng.uniform(1.0, 2.0) * lin
+                offset = rng.uniform(-0.5, 0.5)
+            period = _period_for(rng, model, mode, bits)
+        if scenario == "switch" and rng.random() < 1 / 150:
+            mode = rng.choice([0, 0, 1, 2, 3, 4, rng.randint(0, 7)])
+            bits = rng.choice([*bits_choices, rng.randint(0, 15)])
+            period = rng.choice([_period_for(rng, model, mode, min(max(bits, 1), max_bits)),
+                                 rng.randint(0, 2 * model.long_latency), 0])
+            osr = rng.choice([0, 1, 2, 4])
+            amplitude = rng.uniform(0.05, 1.1) * lin
+        if scenario == "switch" and rng.random() < 0.0005:
+            rst = 1                                   # reset mid-run
+        if offered is None and rng.random() < 0.7:    # idle gaps between beats
+            angle += step
+            if scenario == "extremes":
+                offered = [rng.choice([contract.code_min, contract.code_max, 0, -1, 1])
+                           for _ in range(n)]
+            else:
+                offered = sine_codes(contract, amplitude, angle, offset)
+        sync_in = int(scenario == "switch" and rng.random() < 0.02)
+        valid = int(offered is not None)
+        payload = offered or [0] * n
+        trace["mode"].append(model.mode_lat)        # the registers visible in this cycle
+        trace["long"].append(model.long_lat)
+        out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
+                         zero_policy=policy, sync_in=sync_in, mode=mode, bits=bits)
+        if valid and out["ref_ready"] and not rst:
+            offered = None
+        for name, value in (("rst", rst), ("ref__valid", valid),
+                            ("ref__payload", pack(payload, contract.width)), ("period", period),
+                            ("osr", osr), ("zero_policy", policy), ("sync_in", sync_in),
+                            ("mode", mode), ("bits", bits)):
+            stim[name].append(value)
+        for port, key in OUTPUTS.items():
+            expected[port].append(out[key])
+        trace["start"].append(out["start"])
+        trace["rst"].append(rst)
+        trace["update"].append(out["update"])
+    return stim, expected, trace
+
+
+def generate_core(rng, scenario, contract, rule, cycles):
+    """core_stimulus's scenario (expected outputs from the core's model) with ``mode`` held at
+    mdfqm and ``bits`` random: what the generator must reproduce exactly."""
+    stim, expected = core_stimulus.generate(rng, scenario, contract, rule, cycles)
+    stim["mode"] = [0] * cycles
+    stim["bits"] = [rng.randint(0, 15) for _ in range(cycles)]
+    expected["mode_clamped"] = [0] * cycles
+    return stim, expected
