@@ -11,8 +11,10 @@ default to the YoWASP tools when they are not set (the Makefile sets them too).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -94,6 +96,9 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
                    verbose=verbose, nextpnr_opts=" ".join(opts))
     seconds = time.monotonic() - start
     result = parse_nextpnr_log((directory / f"{NAME}.tim").read_text())
+    (directory / "summary.json").write_text(json.dumps(
+        {"board": board_name, "seconds": round(seconds, 1), "seed": seed,
+         "sys_clk_hz": board.sys_clk_hz, "clocks": result["clocks"]}, indent=1))
     result.update(seconds=seconds, dir=directory, board=board)
     return result
 
@@ -106,7 +111,15 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=None, help="nextpnr placement seed")
     parser.add_argument("-v", "--verbose", action="store_true")
     args = parser.parse_args(argv)
-    result = build(args.board, args.out, args.seed, args.verbose)
+    try:
+        result = build(args.board, args.out, args.seed, args.verbose)
+    except subprocess.CalledProcessError as error:
+        log = build_dir(args.board, args.out) / f"{NAME}.tim"
+        lines = [line for line in (log.read_text().splitlines() if log.exists() else [])
+                 if line.startswith("ERROR") or "FAIL" in line]
+        print(f"{args.board}: build failed ({error}):", *lines[-5:], sep="\n  ",
+              file=sys.stderr)
+        return 1
     print(summary(result["board"], result, result["seconds"]))
     products = sorted(p.name for p in result["dir"].glob(f"{NAME}.b*"))
     print(f"  bitstream: {result['dir']}/{' '.join(products)}")

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from amaranth import ClockDomain, ClockSignal, Elaboratable, Instance, Module, Signal
 from amaranth.build import Attrs, Pins, PinsN, Resource, Subsignal
+from amaranth.lib import io
 from amaranth.lib.cdc import ResetSynchronizer
 
 from mdfqm_gateware.demo.design import DemoConfig, DemoDesign
@@ -113,6 +114,8 @@ class Board:
     io_attrs: dict = field(default_factory=dict)
     fault_attrs: dict = field(default_factory=dict)
     extra_resources: tuple = ()
+    connector_label: str = ""   # the connector's name on the board's silkscreen
+    pin_labels: dict = field(default_factory=dict)   # connector pin -> silkscreen name
     por_us: float = 20.0        # reset held after PLL lock (iCE40 BRAM needs > 3 us)
     nextpnr_opts: str = ""
     demo: dict = field(default_factory=dict)      # DemoConfig overrides
@@ -130,6 +133,11 @@ class Board:
         args = {"clk_hz": self.sys_clk_hz, "buttons": tuple(a for _, a in self.buttons),
                 **self.demo, **overrides}
         return DemoConfig(**args)
+
+    def pin_label(self, pin: str) -> str:
+        """How the board's silkscreen names connector pin ``pin``."""
+        label = self.connector_label or f"{self.connector[0]}{self.connector[1]}"
+        return f"{label} {self.pin_labels.get(pin, 'pin ' + pin)}"
 
     def make_platform(self):
         platform = self.platform()
@@ -177,7 +185,7 @@ class DemoTop(Elaboratable):
         m.domains.por = ClockDomain("por", reset_less=True, local=True)
         locked = Signal()
         if b.pll is None:
-            clk = platform.request(b.clock, dir="i")
+            m.submodules.clk_buf = clk = io.Buffer("i", platform.request(b.clock, dir="-"))
             m.d.comb += [ClockSignal("sync").eq(clk.i), locked.eq(1)]
         else:
             clk = platform.request(b.clock, dir="-")
@@ -194,27 +202,30 @@ class DemoTop(Elaboratable):
             m.d.por += timer.eq(timer + 1)
         m.submodules.reset_sync = ResetSynchronizer(timer != delay, domain="sync")
 
-        # ---- pins
-        uart = platform.request(*b.uart)
-        gates = platform.request("gates", 0)
-        fault = platform.request("fault_n", 0)
-        trigger = platform.request("trigger", 0)
-        m.d.comb += [
-            demo.uart_rx.eq(uart.rx.i),
-            uart.tx.o.eq(demo.uart_tx),
-            gates.upper.o.eq(demo.upper),
-            gates.lower.o.eq(demo.lower),
-            demo.fault_in.eq(fault.i),
-            trigger.o.eq(demo.trigger),
-        ]
+        # ---- pins (every resource through an explicit I/O buffer)
         requested = {}
-        for port, (name, number, *sub) in b.leds.items():
+
+        def buffer(direction, name, number, *path):
             if (name, number) not in requested:
-                requested[name, number] = platform.request(name, number)
-            led = requested[name, number]
-            for attr in sub:                      # e.g. ("rgb_led", 0, "g")
-                led = getattr(led, attr)
-            m.d.comb += led.o.eq(getattr(demo, port))
+                requested[name, number] = platform.request(name, number, dir="-")
+            port = requested[name, number]
+            for attr in path:
+                port = getattr(port, attr)
+            buf = io.Buffer(direction, port)
+            m.submodules["_".join(["pin", name, str(number), *path])] = buf
+            return buf
+
+        uart_name, uart_number = b.uart
+        m.d.comb += [
+            demo.uart_rx.eq(buffer("i", uart_name, uart_number, "rx").i),
+            buffer("o", uart_name, uart_number, "tx").o.eq(demo.uart_tx),
+            buffer("o", "gates", 0, "upper").o.eq(demo.upper),
+            buffer("o", "gates", 0, "lower").o.eq(demo.lower),
+            demo.fault_in.eq(buffer("i", "fault_n", 0).i),       # PinsN: active high here
+            buffer("o", "trigger", 0).o.eq(demo.trigger),
+        ]
+        for port, (name, number, *sub) in b.leds.items():
+            m.d.comb += buffer("o", name, number, *sub).o.eq(getattr(demo, port))
         for i, ((name, number), _) in enumerate(b.buttons):
-            m.d.comb += demo.buttons[i].eq(platform.request(name, number).i)
+            m.d.comb += demo.buttons[i].eq(buffer("i", name, number).i)
         return m

@@ -1,9 +1,7 @@
+# amaranth: UnusedElaboratable=no
 """UART -> Wishbone bridge on its byte streams, every output on every clock, against
 tb/demo_models.py: BridgeModel, with a Wishbone slave with random wait states and an unmapped
 range, and a host that follows (and breaks) mdfqm_gateware.host.protocol."""
-
-# Components built only to be refused are never elaborated, on purpose:
-# amaranth: UnusedElaboratable=no
 
 import cocotb
 import pytest

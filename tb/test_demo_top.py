@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """The whole board demo (DemoDesign) driven through its UART, on each board's configuration:
 bytes in -> bridge -> registers -> NCO -> drop-in top -> gate pins, every pin on every clock
 against tb/demo_models.py: DemoModel; the replies are checked against the protocol and the
@@ -5,12 +6,9 @@ register maps, the switching counters against the top's own counters.
 
 Each board's configuration is used as built (clock, NCO, buttons, dead-time floor, the
 settings written after reset) except two timings that would make the simulation long: the UART
-runs at 16 clocks per bit (the boards' dividers are tested in tb/test_uart.py) and buttons are
+runs at 8 clocks per bit (the boards' dividers are tested in tb/test_uart.py) and buttons are
 sampled every 40 clocks instead of every 10 ms.
 """
-
-# Components built only to be refused are never elaborated, on purpose:
-# amaranth: UnusedElaboratable=no
 
 import sys
 from collections import deque
@@ -32,7 +30,7 @@ if str(ROOT) not in sys.path:
 import boards  # noqa: E402
 
 PINS = ("uart_tx", "upper", "lower", "led_active", "led_fault", "heartbeat", "trigger")
-SIM_DIVIDER = 16
+SIM_DIVIDER = 8
 SIM_DEBOUNCE = 40
 
 
@@ -134,11 +132,10 @@ def host_script(config, rng):
     assert reply.status == proto.STATUS_BUS_TIMEOUT
     assert (yield from read(top["CTRL"])) & top_map.CTRL_ENABLE      # nothing was written
 
-    # buttons: press each one (held for several samples), then check what it did
+    # buttons: press each one (held for several samples), then read what it changed
+    freq, amp = (1 << config.acc_bits) // 30000, config.contract.full // 2
+    ctrl = yield from read(top["CTRL"])
     for i, action in enumerate(config.buttons):
-        before = {"freq": (yield from read(demo.addr("NCO_FREQ"))),
-                  "amp": (yield from read(demo.addr("NCO_AMP"))),
-                  "ctrl": (yield from read(top["CTRL"]))}
         if action == "fault_clear":
             yield ("fault", 1)
             yield ("idle", 10)
@@ -146,25 +143,18 @@ def host_script(config, rng):
         yield ("buttons", 1 << i)
         yield ("idle", 4 * SIM_DEBOUNCE)
         yield ("buttons", 0)
-        yield ("idle", 4 * SIM_DEBOUNCE)
-        freq = yield from read(demo.addr("NCO_FREQ"))
-        amp = yield from read(demo.addr("NCO_AMP"))
-        ctrl = yield from read(top["CTRL"])
-        status = yield from read(top["STATUS"])
-        f, a = before["freq"], before["amp"]
-        want = {
-            "freq_up": (f + (f >> 3) + 1, a, before["ctrl"]),
-            "freq_down": (f - (f >> 3) - 1, a, before["ctrl"]),
-            "amp_up": (f, a + config.amp_step, before["ctrl"]),
-            "amp_down": (f, a - config.amp_step, before["ctrl"]),
-            "enable": (f, a, before["ctrl"] ^ top_map.CTRL_ENABLE),
-            "fault_clear": (f, a, before["ctrl"]),
-        }[action]
-        assert (freq, amp, ctrl) == want, (action, (freq, amp, ctrl), want)
-        if action == "fault_clear":
-            assert not status & top_map.STATUS_FAULT
-        if action == "enable" and not ctrl & top_map.CTRL_ENABLE:
-            yield from write(top["CTRL"], ctrl | top_map.CTRL_ENABLE)
+        yield ("idle", 3 * SIM_DEBOUNCE)
+        if action in ("freq_up", "freq_down"):
+            freq = freq + (freq >> 3) + 1 if action == "freq_up" else freq - (freq >> 3) - 1
+            assert (yield from read(demo.addr("NCO_FREQ"))) == freq, action
+        elif action in ("amp_up", "amp_down"):
+            amp += config.amp_step if action == "amp_up" else -config.amp_step
+            assert (yield from read(demo.addr("NCO_AMP"))) == amp, action
+        elif action == "enable":
+            ctrl ^= top_map.CTRL_ENABLE
+            assert (yield from read(top["CTRL"])) == ctrl, action
+        else:
+            assert not (yield from read(top["STATUS"])) & top_map.STATUS_FAULT, action
     yield ("idle", 300)
 
 
@@ -262,10 +252,9 @@ def test_demo_design_rejects_a_bad_config():
     assert str(info.value) == "config must be a DemoConfig, not {'clk_hz': 1}"
 
 
-def test_model_runs_the_script_for_every_board():
-    """The model and the script alone (fast): catches a script/model disagreement before the
-    simulator is built."""
+def test_model_runs_the_script():
+    """The model and the script alone, on the default board (a few seconds): a disagreement
+    between them shows here before a simulator is built."""
     import random
-    for board in boards.BOARDS:
-        _, expected, requests = generate(sim_config(board), random.Random(1))
-        assert requests > 20 and len(expected["upper"]) > 10_000
+    _, expected, requests = generate(sim_config(boards.DEFAULT), random.Random(1))
+    assert requests > 20 and len(expected["upper"]) > 10_000

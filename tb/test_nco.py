@@ -1,8 +1,6 @@
+# amaranth: UnusedElaboratable=no
 """The N-phase sine reference (SineNco), every output on every clock, against
 mdfqm_model.nco.NcoModel; quarter and full tables, runtime frequency/amplitude, back-pressure."""
-
-# Components built only to be refused are never elaborated, on purpose:
-# amaranth: UnusedElaboratable=no
 
 import cocotb
 import pytest

@@ -1,7 +1,5 @@
-"""UART receiver and transmitter, every output on every clock, against tb/demo_models.py."""
-
-# Components built only to be refused are never elaborated, on purpose:
 # amaranth: UnusedElaboratable=no
+"""UART receiver and transmitter, every output on every clock, against tb/demo_models.py."""
 
 import cocotb
 import pytest

@@ -18,6 +18,7 @@ BOARD = Board(
     clock_hz=12e6,
     pll=Ice40Pll(divr=0, divf=47, divq=4, filter_range=1, pad=False),    # icepll -i 12 -o 36
     connector=("j", 2),                                                  # header J2
+    connector_label="J2",
     gate_pins=(("9", "11", "13"), ("10", "12", "14")),
     fault_pin="17",
     trigger_pin="18",

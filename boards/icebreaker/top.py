@@ -19,6 +19,7 @@ BOARD = Board(
     clock_hz=12e6,
     pll=Ice40Pll(divr=0, divf=87, divq=6, filter_range=1, pad=True),   # icepll -i 12 -o 16.5
     connector=("pmod", 0),                                               # PMOD1A
+    connector_label="PMOD1A",
     gate_pins=(("1", "2", "3"), ("7", "8", "9")),
     fault_pin="4",
     trigger_pin="10",

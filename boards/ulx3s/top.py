@@ -20,6 +20,9 @@ BOARD = Board(
     clock_hz=25e6,
     pll=Ecp5Pll(clki_div=1, clkfb_div=2, clkop_div=12, clkop_cphase=5),  # ecppll -i 25 -o 50
     connector=("gpio", 0),
+    connector_label="header",
+    pin_labels={f"{i}{s}": f"{'GP' if s == '+' else 'GN'}{i}" for i in range(4)
+                for s in "+-"},
     gate_pins=(("0+", "1+", "2+"), ("0-", "1-", "2-")),
     fault_pin="3+",
     trigger_pin="3-",

@@ -1,0 +1,122 @@
+"""The board folders without place and route: constraint files current, PLL settings equal to
+what icepll / ecppll compute, clock and UART arithmetic, the build's log parsing and timing
+gate, the report's table splicing."""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+import boards  # noqa: E402
+from boards import build as board_build  # noqa: E402
+from boards import constraints, report  # noqa: E402
+from boards.common import Ecp5Pll, Ice40Pll  # noqa: E402
+
+
+def test_constraint_files_are_current():
+    assert constraints.main(["--check"]) == 0, "run python -m boards.constraints"
+
+
+@pytest.mark.parametrize("name", sorted(boards.BOARDS))
+def test_board_clock_and_uart(name):
+    board = boards.get(name)
+    config = board.config()
+    assert config.clk_hz == board.sys_clk_hz
+    assert abs(config.clk_hz / config.divider - 115200) / 115200 < 0.01
+    pins = [*board.gate_pins[0], *board.gate_pins[1], board.fault_pin, board.trigger_pin]
+    assert len(set(pins)) == len(pins) == 8
+    assert {action for _, action in board.buttons} <= set(config.buttons)
+
+
+def tool_output(cmd):
+    result = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT / "build")
+    return result.stdout + result.stderr
+
+
+@pytest.mark.parametrize("name", [n for n in sorted(boards.BOARDS)
+                                  if isinstance(boards.get(n).pll, Ice40Pll)])
+def test_ice40_pll_is_what_icepll_computes(name):
+    board = boards.get(name)
+    (ROOT / "build").mkdir(exist_ok=True)
+    out = tool_output(["yowasp-icepll", "-i", f"{board.clock_hz / 1e6:g}",
+                       "-o", f"{board.sys_clk_hz / 1e6:g}"])
+    want = {key: int(value) for key, value in
+            re.findall(r"^(DIVR|DIVF|DIVQ|FILTER_RANGE):\s+(\d+)", out, re.M)}
+    pll = board.pll
+    assert want == {"DIVR": pll.divr, "DIVF": pll.divf, "DIVQ": pll.divq,
+                    "FILTER_RANGE": pll.filter_range}, out
+    assert f"{board.sys_clk_hz / 1e6:.3f} MHz (achieved)" in out
+
+
+@pytest.mark.parametrize("name", [n for n in sorted(boards.BOARDS)
+                                  if isinstance(boards.get(n).pll, Ecp5Pll)])
+def test_ecp5_pll_is_what_ecppll_computes(name):
+    board = boards.get(name)
+    out = tool_output(["yowasp-ecppll", "-i", f"{board.clock_hz / 1e6:g}",
+                       "-o", f"{board.sys_clk_hz / 1e6:g}", "-f", "ecppll_check.v"])
+    text = (ROOT / "build" / "ecppll_check.v").read_text()
+    want = {key: int(value) for key, value in
+            re.findall(r"\.(CLKI_DIV|CLKFB_DIV|CLKOP_DIV|CLKOP_CPHASE)\((\d+)\)", text)}
+    pll = board.pll
+    assert want == {"CLKI_DIV": pll.clki_div, "CLKFB_DIV": pll.clkfb_div,
+                    "CLKOP_DIV": pll.clkop_div, "CLKOP_CPHASE": pll.clkop_cphase}, out
+
+
+@pytest.mark.parametrize(("pll", "message"), [
+    (Ice40Pll(divr=0, divf=20, divq=1, filter_range=1),
+     "iCE40 PLL out of range: PFD 12.0 MHz, VCO 252.0 MHz"),
+    (Ecp5Pll(clki_div=1, clkfb_div=2, clkop_div=2, clkop_cphase=0),
+     "ECP5 PLL out of range: VCO 100.0 MHz"),
+])
+def test_pll_ranges_are_checked(pll, message):
+    with pytest.raises(ValueError) as info:
+        pll.check(12e6 if isinstance(pll, Ice40Pll) else 25e6)
+    assert str(info.value) == message
+
+
+NEXTPNR_LOG = """\
+Info: Device utilisation:
+Info: 	         ICESTORM_LC:    4059/   5280    76%
+Info: 	        ICESTORM_RAM:       1/     30     3%
+Info: Max frequency for clock 'clk': 17.00 MHz (PASS at 16.52 MHz)
+Info: Max frequency for clock 'clk': 15.97 MHz (FAIL at 16.52 MHz)
+ERROR: Max frequency for clock 'clk': 15.97 MHz (FAIL at 16.52 MHz)
+"""
+
+
+def test_nextpnr_log_parsing_keeps_the_post_route_figure():
+    parsed = board_build.parse_nextpnr_log(NEXTPNR_LOG)
+    assert parsed["utilisation"]["ICESTORM_LC"] == (4059, 5280)
+    assert parsed["clocks"] == {"clk": (15.97, "FAIL", 16.52)}
+
+
+def test_yosys_stat_parsing():
+    text = "x\n2.50. Printing statistics.\n     1222   SB_CARRY\n     2874   SB_LUT4\n" \
+           "      762   SB_DFFSR\n=== design hierarchy ===\n     9   SB_LUT4\n"
+    assert report.parse_yosys_stat(text) == {"SB_CARRY": 1222, "SB_LUT4": 2874,
+                                             "SB_DFFSR": 762}
+
+
+def test_report_table_is_spliced_between_markers():
+    block = f"{report.BEGIN}\nnew\n{report.END}"
+    assert report.splice(f"a\n{report.BEGIN}\nold\n{report.END}\nb\n", block) == \
+        f"a\n{block}\nb\n"
+    assert report.splice("# title\n", block) == f"# title\n\n## Board builds\n\n{block}\n"
+
+
+def test_build_directory_must_not_be_under_tmp():
+    with pytest.raises(SystemExit) as info:
+        board_build.build_dir("icebreaker", Path("/tmp/boards"))
+    assert "under /tmp" in str(info.value)
+
+
+def test_unknown_board():
+    with pytest.raises(ValueError) as info:
+        boards.get("arty")
+    assert str(info.value) == \
+        "board must be one of ['hx8k', 'icebreaker', 'orangecrab', 'ulx3s'], not 'arty'"
