@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
+import os
 import re
 import subprocess
 import sys
@@ -93,8 +94,8 @@ def tool_versions() -> list[str]:
 def table(rows: list[tuple], versions: list[str], seed) -> str:
     today = datetime.date.today().isoformat()
     lines = [BEGIN,
-             f"Board builds of the demo (`make report`, {today}; nextpnr seed "
-             f"{seed if seed is not None else 'default'}):", "",
+             f"Board builds of the demo (`make report`, {today}, {os.cpu_count()}-core machine; "
+             f"nextpnr seed {seed if seed is not None else 'default'}):", "",
              "| board | device | clock MHz | LUT4 | FF | LCs / slices used | BRAM | PLL | "
              "Fmax MHz (post-route) | build s |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]

@@ -120,3 +120,12 @@ def test_unknown_board():
         boards.get("arty")
     assert str(info.value) == \
         "board must be one of ['hx8k', 'icebreaker', 'orangecrab', 'ulx3s'], not 'arty'"
+
+
+def test_docs_list_every_demo_register():
+    from mdfqm_gateware.demo.regmap import DEMO
+
+    text = (ROOT / "docs" / "boards.md").read_text()
+    for reg in DEMO.regs:
+        name = "SWITCHES_i" if reg.name.startswith("SWITCHES_") else reg.name
+        assert f"`{name}`" in text, name

@@ -8,7 +8,12 @@ import pytest
 from demo_models import BridgeModel
 
 from harness import check_cycles, params, run_block, seeded_rng, start
+from mdfqm_gateware.demo.arbiter import WishboneArbiter
 from mdfqm_gateware.demo.bridge import UartBridge
+from mdfqm_gateware.demo.registers import RegisterBank
+from mdfqm_gateware.demo.regmap import DEMO
+from mdfqm_gateware.demo.sequencer import BusSequencer
+from mdfqm_gateware.demo.wishbone import WishboneDecoder, WishboneSignature
 from mdfqm_gateware.host import protocol as proto
 
 CASES = [(16, 5, 40), (16, 64, 300), (8, 3, 25)]
@@ -165,4 +170,38 @@ def test_bridge(addr_width, bus_timeout, frame_timeout):
 def test_bridge_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:
         UartBridge(**kwargs)
+    assert str(info.value) == message
+
+
+@pytest.mark.parametrize(("make", "message"), [
+    (lambda: WishboneSignature(31), "addr_width must be an integer in [1, 30], not 31"),
+    (lambda: WishboneArbiter(0), "addr_width must be an integer in [1, 30], not 0"),
+    (lambda: WishboneDecoder(16, {}),
+     "windows must be a non-empty dict of name -> (base, width), not {}"),
+    (lambda: WishboneDecoder(16, {"bus": (0, 4)}),
+     "windows: name 'bus' must be an identifier other than 'bus'"),
+    (lambda: WishboneDecoder(16, {"a": (0x08, 4)}),
+     "windows['a'] base must be a multiple of 0x10 inside the 16-bit address space, not 8"),
+    (lambda: WishboneDecoder(8, {"a": (0, 9)}),
+     "windows['a'] width must be an integer in [1, 8], not 9"),
+    (lambda: WishboneDecoder(16, {"a": (0, 6), "b": (0x20, 4)}),
+     "windows['b'] at 0x0020 (16 words) overlaps windows['a'] at 0x0000"),
+    (lambda: RegisterBank(DEMO, init={"ID": 1}), "'ID' is not a rw register of the demo window"),
+    (lambda: RegisterBank(DEMO, settable=("NOPE",)),
+     "'NOPE' is not a rw register of the demo window"),
+    (lambda: RegisterBank(DEMO, init={"NCO_AMP": 1 << 15}),
+     "init['NCO_AMP'] must fit in 15 bits, not 32768"),
+    (lambda: BusSequencer(16, [(0x10000, 0)], 3, 1, 4, 2),
+     "init[0] addr must be an integer in [0, 65535], not 65536"),
+    (lambda: BusSequencer(16, [(1, -1)], 3, 1, 4, 2),
+     "init[0] data must be an integer in [0, 4294967295], not -1"),
+    (lambda: BusSequencer(16, [1], 3, 1, 4, 2), "init[0] must be an (addr, data) tuple, not 1"),
+    (lambda: BusSequencer(8, [], 256, 1, 4, 2),
+     "ctrl_addr must be an integer in [0, 255], not 256"),
+    (lambda: BusSequencer(8, [], 3, 1 << 32, 4, 2),
+     "enable_mask must be an integer in [0, 4294967295], not 4294967296"),
+])
+def test_bus_blocks_reject_bad_parameters(make, message):
+    with pytest.raises(ValueError) as info:
+        make()
     assert str(info.value) == message

@@ -246,6 +246,19 @@ def test_demo_config_rejects_bad_parameters(kwargs, message):
     assert str(info.value) == message
 
 
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"count": 0, "debounce": 10}, "count must be an integer in [1, 8], not 0"),
+    ({"count": 9, "debounce": 10}, "count must be an integer in [1, 8], not 9"),
+    ({"count": 2, "debounce": 0}, "debounce must be an integer in [1, 16777216], not 0"),
+])
+def test_buttons_reject_bad_parameters(kwargs, message):
+    from mdfqm_gateware.demo.buttons import Buttons
+
+    with pytest.raises(ValueError) as info:
+        Buttons(**kwargs)
+    assert str(info.value) == message
+
+
 def test_demo_design_rejects_a_bad_config():
     with pytest.raises(ValueError) as info:
         DemoDesign({"clk_hz": 1})

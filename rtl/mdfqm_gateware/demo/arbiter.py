@@ -11,13 +11,16 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from ..params import validate_positive
 from .wishbone import WishboneSignature
 
 __all__ = ["WishboneArbiter"]
 
 
 class WishboneArbiter(wiring.Component):
-    """Ports
+    """Share one Wishbone-classic bus between two masters, a whole cycle at a time.
+
+    Ports
     -----
     m0, m1 : In(WishboneSignature(addr_width))
         The masters; ``m1`` wins when both wait for a free bus.
@@ -32,7 +35,7 @@ class WishboneArbiter(wiring.Component):
     """
 
     def __init__(self, addr_width: int):
-        self.addr_width = addr_width
+        self.addr_width = validate_positive(addr_width, "addr_width", maximum=30)
         super().__init__({
             "m0": In(WishboneSignature(addr_width)),
             "m1": In(WishboneSignature(addr_width)),

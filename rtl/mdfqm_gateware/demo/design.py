@@ -206,10 +206,7 @@ class DemoDesign(wiring.Component):
         connect(m, seq.bus, arbiter.m1)
         connect(m, arbiter.bus, decoder.bus)
         connect(m, decoder.demo, regs.bus)
-        # the top's bus is bus.WishboneSignature: the same members as the demo's
-        for name in ("cyc", "stb", "we", "adr", "dat_w", "sel"):
-            m.d.comb += getattr(top.wb, name).eq(getattr(decoder.top, name))
-        m.d.comb += [decoder.top.ack.eq(top.wb.ack), decoder.top.dat_r.eq(top.wb.dat_r)]
+        connect(m, decoder.top, top.wb)
         connect(m, nco.ref, top.ref)
         m.d.comb += [
             nco.freq.eq(regs.NCO_FREQ),

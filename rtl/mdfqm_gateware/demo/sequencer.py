@@ -12,13 +12,16 @@ from amaranth import Array, Const, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from ..params import validate_positive
 from .wishbone import WishboneSignature
 
 __all__ = ["BusSequencer"]
 
 
 class BusSequencer(wiring.Component):
-    """Ports
+    """A small Wishbone master: initial writes, then read-modify-write and write on request.
+
+    Ports
     -----
     bus : Out(WishboneSignature(addr_width))
         Master port (``sel`` always ``0b1111``).
@@ -39,8 +42,18 @@ class BusSequencer(wiring.Component):
 
     def __init__(self, addr_width: int, init, ctrl_addr: int, enable_mask: int,
                  clear_addr: int, clear_value: int):
-        self.addr_width = addr_width
-        self.init = tuple((int(a), int(d)) for a, d in init)
+        self.addr_width = validate_positive(addr_width, "addr_width", maximum=30)
+        top = (1 << addr_width) - 1
+        for name, value in (("ctrl_addr", ctrl_addr), ("clear_addr", clear_addr)):
+            validate_positive(value, name, minimum=0, maximum=top)
+        for name, value in (("enable_mask", enable_mask), ("clear_value", clear_value)):
+            validate_positive(value, name, minimum=0, maximum=0xFFFF_FFFF)
+        for i, entry in enumerate(init):
+            if not (isinstance(entry, tuple) and len(entry) == 2):
+                raise ValueError(f"init[{i}] must be an (addr, data) tuple, not {entry!r}")
+            validate_positive(entry[0], f"init[{i}] addr", minimum=0, maximum=top)
+            validate_positive(entry[1], f"init[{i}] data", minimum=0, maximum=0xFFFF_FFFF)
+        self.init = tuple(init)
         self.ctrl_addr, self.enable_mask = ctrl_addr, enable_mask
         self.clear_addr, self.clear_value = clear_addr, clear_value
         super().__init__({

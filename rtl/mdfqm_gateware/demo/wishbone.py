@@ -1,6 +1,7 @@
 """Wishbone classic (B4), as used on chip by the demo: 32-bit data, byte-lane selects, *word*
 addresses, no ERR/RTY/stall; a slave answers with ``ack`` (the demo's slaves: one clock after
-the request, for one clock).
+the request, for one clock). The signature is the drop-in top's
+(:class:`mdfqm_gateware.bus.WishboneSignature`), so its register port connects directly.
 
 Master rules: ``cyc`` and ``stb`` rise together and stay high, with ``we``/``adr``/``dat_w``/
 ``sel`` stable, until the cycle in which ``ack`` is high; they drop in the next cycle.
@@ -10,41 +11,10 @@ from amaranth import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from ..bus import WishboneSignature
 from ..params import validate_positive
 
 __all__ = ["WishboneDecoder", "WishboneSignature"]
-
-
-class WishboneSignature(wiring.Signature):
-    """Wishbone classic, master's view: ``cyc stb we adr dat_w sel`` out, ``dat_r ack`` in.
-
-    Parameters
-    ----------
-    addr_width : int in [1, 30]
-        Word address bits.
-    """
-
-    def __init__(self, addr_width: int):
-        self.addr_width = validate_positive(addr_width, "addr_width", maximum=30)
-        super().__init__({
-            "cyc": Out(1),
-            "stb": Out(1),
-            "we": Out(1),
-            "adr": Out(addr_width),
-            "dat_w": Out(32),
-            "sel": Out(4),
-            "dat_r": In(32),
-            "ack": In(1),
-        })
-
-    def __eq__(self, other):
-        return isinstance(other, WishboneSignature) and other.addr_width == self.addr_width
-
-    def __hash__(self):
-        return hash(("WishboneSignature", self.addr_width))
-
-    def __repr__(self):
-        return f"WishboneSignature({self.addr_width})"
 
 
 class WishboneDecoder(wiring.Component):
