@@ -5,7 +5,10 @@ range, and a host that follows (and breaks) mdfqm_gateware.host.protocol."""
 
 import cocotb
 import pytest
-from demo_models import BridgeModel
+from amaranth import Module
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out, connect
+from demo_models import ArbiterModel, BridgeModel, SequencerModel
 
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.demo.arbiter import WishboneArbiter
@@ -158,8 +161,9 @@ async def bridge_requests(dut):
 @pytest.mark.parametrize(("addr_width", "bus_timeout", "frame_timeout"), CASES)
 def test_bridge(addr_width, bus_timeout, frame_timeout):
     run_block(lambda: UartBridge(addr_width, bus_timeout, frame_timeout), "uart_bridge",
-              "test_bridge", {"addr_width": addr_width, "bus_timeout": bus_timeout,
-                              "frame_timeout": frame_timeout})
+              "test_bridge", {"block": "bridge", "addr_width": addr_width,
+                              "bus_timeout": bus_timeout, "frame_timeout": frame_timeout},
+              testcase="bridge_requests")
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [
@@ -205,3 +209,103 @@ def test_bus_blocks_reject_bad_parameters(make, message):
     with pytest.raises(ValueError) as info:
         make()
     assert str(info.value) == message
+
+
+# ------------------------------------------------------------------ arbiter + bus sequencer
+
+SEQ_INIT = ((0x06, 240), (0x08, 9), (0x09, 0))
+SEQ_ARGS = (0x03, 0b1, 0x04, 0b10)        # CTRL, ENABLE, CMD, FAULT_CLEAR
+
+
+class BusPair(wiring.Component):
+    """Test wrapper: an external master (``m0``) and a BusSequencer share one bus."""
+
+    def __init__(self):
+        super().__init__({"m0": In(WishboneSignature(16)), "bus": Out(WishboneSignature(16)),
+                          "enable_toggle": In(1), "fault_clear": In(1), "busy": Out(1),
+                          "owner": Out(1)})
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.seq = seq = BusSequencer(16, SEQ_INIT, *SEQ_ARGS)
+        m.submodules.arbiter = arbiter = WishboneArbiter(16)
+        connect(m, wiring.flipped(self.m0), arbiter.m0)
+        connect(m, seq.bus, arbiter.m1)
+        connect(m, arbiter.bus, wiring.flipped(self.bus))
+        m.d.comb += [seq.enable_toggle.eq(self.enable_toggle), seq.fault_clear.eq(self.fault_clear),
+                     self.busy.eq(seq.busy), self.owner.eq(arbiter.owner)]
+        return m
+
+
+def generate_bus_pair(rng, cycles):
+    """A random external master, button pulses and a slave with wait states, all reacting to
+    the models; the slave's registers must end up as the sequencer's writes say."""
+    seq, arb = SequencerModel(SEQ_INIT, *SEQ_ARGS), ArbiterModel()
+    slave = Slave(rng, 5)
+    m0 = {"cyc": 0, "we": 0, "adr": 0, "dat_w": 0}
+    names = ("m0__cyc", "m0__stb", "m0__we", "m0__adr", "m0__dat_w", "m0__sel", "bus__ack",
+             "bus__dat_r", "enable_toggle", "fault_clear")
+    outs = ("m0__ack", "m0__dat_r", "bus__cyc", "bus__stb", "bus__we", "bus__adr", "bus__dat_w",
+            "bus__sel", "busy", "owner")
+    stim, expected = {n: [] for n in names}, {n: [] for n in outs}
+    toggles = clears = 0
+    for _ in range(cycles):
+        so, owner = seq.outputs(), arb.owner
+        bus = so if owner else {**m0, "stb": m0["cyc"]}
+        ack, dat_r = slave.respond({**bus, "adr": bus["adr"] % MAPPED_BELOW})
+        toggle = int(rng.random() < 0.01)
+        clear = int(rng.random() < 0.01)
+        toggles, clears = toggles + toggle, clears + clear
+        m0_ack = ack and not owner
+        row = {"m0__cyc": m0["cyc"], "m0__stb": m0["cyc"], "m0__we": m0["we"],
+               "m0__adr": m0["adr"], "m0__dat_w": m0["dat_w"], "m0__sel": 0xF,
+               "bus__ack": ack, "bus__dat_r": dat_r, "enable_toggle": toggle,
+               "fault_clear": clear}
+        for name, value in row.items():
+            stim[name].append(value)
+        got = {"m0__ack": int(m0_ack), "m0__dat_r": dat_r, "bus__cyc": bus["cyc"],
+               "bus__stb": bus["stb"], "bus__we": bus["we"], "bus__adr": bus["adr"],
+               "bus__dat_w": bus["dat_w"], "bus__sel": 0xF, "busy": so["busy"], "owner": owner}
+        for name in outs:
+            expected[name].append(got[name])
+        seq.step(ack=ack and owner, dat_r=dat_r, enable_toggle=toggle, fault_clear=clear)
+        arb.step(m0_cyc=m0["cyc"], m1_cyc=so["cyc"])
+        if m0["cyc"] and m0_ack:                      # the external master: next cycle later
+            m0 = {"cyc": 0, "we": 0, "adr": 0, "dat_w": 0}
+        elif not m0["cyc"] and rng.random() < 0.3:
+            m0 = {"cyc": 1, "we": rng.randint(0, 1), "adr": rng.choice([0x03, 0x04, 0x10]),
+                  "dat_w": rng.getrandbits(32)}
+    return stim, expected, slave, toggles, clears
+
+
+@cocotb.test()
+async def arbiter_and_sequencer(dut):
+    """Initial writes, enable toggles (read-modify-write) and fault clears from random button
+    pulses, while another master keeps the bus busy."""
+    rng = seeded_rng(dut, "arbiter_and_sequencer")
+    stim, expected, _, toggles, clears = generate_bus_pair(rng, 6000)
+    await start(dut)
+    checked = await check_cycles(dut, stim, expected)
+    dut._log.info("arbiter_and_sequencer: %d cycles, %d toggles, %d clears, every output equal "
+                  "to the models", checked, toggles, clears)
+
+
+def test_arbiter_and_sequencer():
+    run_block(BusPair, "bus_pair", "test_bridge", {"block": "bus_pair"},
+              testcase="arbiter_and_sequencer")
+
+
+def test_sequencer_model_writes_its_init_then_serves_the_buttons():
+    import random
+    stim, expected, _, toggles, clears = generate_bus_pair(random.Random(3), 6000)
+    done = [(expected["bus__we"][c], expected["bus__adr"][c], expected["bus__dat_w"][c],
+             stim["bus__dat_r"][c])
+            for c in range(6000) if expected["owner"][c] and stim["bus__ack"][c]]
+    assert [(a, d) for _, a, d, _ in done[:3]] == list(SEQ_INIT)
+    rest = done[3:]
+    reads = [i for i, (we, a, _, _) in enumerate(rest) if not we and a == SEQ_ARGS[0]]
+    for i in reads:           # every read of CTRL is followed by its write with ENABLE flipped
+        assert rest[i + 1][:3] == (1, SEQ_ARGS[0], rest[i][3] ^ SEQ_ARGS[1])
+    assert len(reads) >= 1 and sum(1 for we, a, d, _ in rest
+                                   if we and (a, d) == SEQ_ARGS[2:]) >= 1
+    assert toggles >= len(reads) and clears >= 1
