@@ -223,12 +223,16 @@ def test_cli_finds_the_demo_among_ports():
         def write(self, data):
             return len(data)
 
+    opened = []
+
     def opener(name):
+        opened.append(name)
         return SimulatedDevice() if name == "/dev/ttyUSB1" else Silent()
 
     found = find_ports(115200, 0.1, comports=lambda: ports, opener=opener)
     assert found[0] == ("/dev/ttyUSB1", "FTDI FT2232H", True)
     assert [f[2] for f in found] == [True, False, False]
+    assert sorted(opened) == ["/dev/ttyUSB0", "/dev/ttyUSB1"]     # ttyS0 is never written
 
 
 # ------------------------------------------------------- the simulated device vs the gateware

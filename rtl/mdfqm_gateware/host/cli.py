@@ -51,7 +51,8 @@ def open_port(name: str, baud: int, timeout: float):
 
 def find_ports(baud: int, timeout: float, comports=None, opener=None) -> list[tuple]:
     """``(device, description, answers)`` for every serial port, known UART bridges first;
-    ``answers`` is True when the port reads back the demo's ID."""
+    ``answers`` is True when the port reads back the demo's ID. Only USB serial ports are
+    probed (a request is written to them); built-in UARTs are listed, never written to."""
     if comports is None:
         comports = _serial().tools.list_ports.comports
     opener = opener or (lambda dev: open_port(dev, baud, timeout))
@@ -59,6 +60,9 @@ def find_ports(baud: int, timeout: float, comports=None, opener=None) -> list[tu
     for port in comports():
         known = KNOWN_USB.get((port.vid, port.pid))
         answers = False
+        if port.vid is None:
+            found.append((port.device, port.description or "", False, False))
+            continue
         try:
             handle = opener(port.device)
             try:
