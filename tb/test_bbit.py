@@ -12,6 +12,9 @@ from bbit_stimulus import generate, generate_core
 
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.generator import GatingSignalGenerator
+from mdfqm_gateware.integrator import Integrator
+from mdfqm_gateware.resolution import Quantiser, SlotLayout
+from mdfqm_gateware.sequencer import UpdateSequencer
 from mdfqm_model.contract import Contract, loop_latency, resolution_latency
 
 CASES = [(3, 16, "largest_duty", 8), (5, 16, "exact_nearest", 6)]
@@ -114,9 +117,9 @@ def test_bbit(phases, width, rule, max_bits):
 
 def test_bbit_latencies_are_the_contract():
     g = GatingSignalGenerator(3, 16)
-    assert (g.latency, g.long_latency) == (loop_latency(3), resolution_latency(3, 8)) == (8, 19)
+    assert (g.latency, g.long_latency) == (loop_latency(3), resolution_latency(3, 8)) == (8, 20)
     g = GatingSignalGenerator(5, 16, "exact_nearest", 6)
-    assert (g.latency, g.long_latency) == (11, 20)
+    assert (g.latency, g.long_latency) == (11, 21)
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [
@@ -143,3 +146,33 @@ def test_bbit_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:
         GatingSignalGenerator(**kwargs)
     assert str(info.value) == message
+
+
+@pytest.mark.parametrize(("factory", "message"), [
+    (lambda: Quantiser(3, 16, 0),
+     "max_bits must be an integer in [1, 12] for a 16-bit reference (2**max_bits slots <= FULL, "
+     "at most 12), not 0"),
+    (lambda: Quantiser(2, 16, 4), "phases must be an integer >= 3, not 2"),
+    (lambda: SlotLayout(2, 4), "phases must be an integer >= 3, not 2"),
+    (lambda: SlotLayout(3, 13), "max_bits must be an integer in [1, 12], not 13"),
+    (lambda: SlotLayout(3, 4, 1), "period_width must be an integer in [2, 32], not 1"),
+    (lambda: UpdateSequencer(8, long_latency=4), "long_latency must be an integer >= 8, not 4"),
+    (lambda: UpdateSequencer(8, long_latency=20, max_bits=16),
+     "max_bits must be an integer in [1, 15], not 16"),
+    (lambda: UpdateSequencer(8, period_width=8, long_latency=20, max_bits=8),
+     "period_width must hold the longest minimum period 256, not 8"),
+    (lambda: Integrator(3, 16, unit_shift=15), "unit_shift must be an integer in [0, 14], not 15"),
+    (lambda: Integrator(3, 16, unit_shift=-1), "unit_shift must be an integer in [0, 14], not -1"),
+])
+def test_blocks_reject_bad_parameters(factory, message):
+    with pytest.raises(ValueError) as info:
+        factory()
+    assert str(info.value) == message
+
+
+def test_core_blocks_unchanged_by_default():
+    """The generator's options are off by default: the core's sequencer has no mode ports and
+    its integrator takes the feedback in units of FULL."""
+    assert "mode" not in UpdateSequencer(8).signature.members
+    assert Integrator(3, 16).unit_shift == 14 and Integrator(3, 16).units_width == 3
+    assert Integrator(3, 16, unit_shift=6).units_width == 11

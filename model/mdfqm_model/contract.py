@@ -272,14 +272,14 @@ def resolution_latency(phases: int, max_bits: int) -> int:
     """``L_b``: clocks from the start of a long update to its presentation.
 
     1 (T = X + R) + depth(sort1) + 1 (max + min) + 1 (zero split and offsets) + 1 (per-leg
-    instants, clamp) + max_bits (restoring division, one quotient bit a clock)
+    instants) + 1 (clamp, divider load) + max_bits (restoring division, one quotient bit a clock)
     + ceil(log2 N) (sums over the legs) + 1 (feedback) + 1 (integrator commit / presentation).
     """
     if isinstance(phases, bool) or not isinstance(phases, int) or phases < MIN_PHASES:
         raise ValueError(f"phases must be an integer >= {MIN_PHASES}, not {phases!r}")
     if isinstance(max_bits, bool) or not isinstance(max_bits, int) or max_bits < 1:
         raise ValueError(f"max_bits must be an integer >= 1, not {max_bits!r}")
-    return 6 + len(sorting_network(phases)) + ceil_log2(phases) + max_bits
+    return 7 + len(sorting_network(phases)) + ceil_log2(phases) + max_bits
 
 
 def latch_mode(mode: int, bits: int, max_bits: int) -> tuple[int, int, bool]:

@@ -40,9 +40,23 @@ class GatingSignalGenerator(wiring.Component):
 
     Ports
     -----
-    ref, period, osr, zero_policy, sync_in, start, sample, saturated
-        As :class:`~.core.MdfqmCore`'s (the minimum period and the sync threshold depend on the
-        kind of update: see ``period_clamped`` and the contract).
+    ref : In(stream.Signature(ArrayLayout(signed(width), phases)))
+        Phase references (``2**(width-2)`` codes per Vdc, any common mode). One beat is taken at
+        a time and used from the next sampling tick on (zero-order hold between ticks).
+    period : In(16)
+        Clocks per update, sampled at each update start; values below the update's minimum
+        (``latency`` for a short update, ``max(long_latency, 2**b)`` for a long one) are used
+        as that minimum and flagged by ``period_clamped``. In a gamma mode the ``2**b`` slots
+        last ``floor(P / 2**b)`` clocks each, the last one also the remainder.
+    osr : In(8)
+        Updates per reference sample, sampled at each update start; 0 acts as 1.
+    zero_policy : In(1)
+        0: the MDFQM zero state is all-off. 1: all-off or all-on, whichever needs fewer
+        transitions from the last state output. Sampled at each update start.
+    sync_in : In(1)
+        Share update boundaries between instances: high in a cycle in which the update in
+        flight has committed by the next cycle (``phase + 1 >= latency``, or ``long_latency``
+        for a long update) makes the next cycle an update start; ignored earlier.
     mode : In(MODE_WIDTH)
         0 mdfqm, 1 svpwm, 2 dpwm0, 3 dpwm1, 4 dpwm (sector clamp); 5..7 act as 0 and are flagged
         by ``mode_clamped``. Sampled at each update start.
@@ -56,9 +70,14 @@ class GatingSignalGenerator(wiring.Component):
         One-clock strobe: the update's result (``h`` = its state or its first slot,
         ``saturated``) is visible this cycle; ``latency`` (short updates) or ``long_latency``
         (long ones) after its start.
+    start : Out(1)
+        High in the first clock of each update (use as sync out).
+    sample : Out(1)
+        High at an update start that samples the reference.
+    saturated : Out(1)
+        The last update hit the integrator bound and held the integrators (overmodulation).
     period_clamped : Out(1)
-        The period requested at the last start was below that update's minimum (``latency``
-        for a short update, ``max(long_latency, 2**b)`` for a long one).
+        The period requested at the last start was below that update's minimum.
     mode_clamped : Out(1)
         The last start's ``mode`` was illegal or its ``bits`` was clamped.
 
@@ -74,7 +93,7 @@ class GatingSignalGenerator(wiring.Component):
     latency : int
         Latency (and minimum period) of a short update: the core's (8 for three phases).
     long_latency : int
-        Latency of a long update (19 for three phases and max_bits = 8).
+        Latency of a long update (20 for three phases and max_bits = 8).
     """
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
@@ -122,7 +141,7 @@ class GatingSignalGenerator(wiring.Component):
 
         h_last = Signal(n)          # last state of the last presented update (zero policy)
         slot_len = Signal(len(self.period))
-        slot_m1 = Signal(len(self.period))
+        slot_m2 = Signal(signed(len(self.period) + 1))
         bbit = sequencer.mode_lat != 0
         commit = Mux(sequencer.long, quantiser.o_valid, decoder.o_valid)
 
@@ -166,7 +185,7 @@ class GatingSignalGenerator(wiring.Component):
             layout.i_hi.eq(quantiser.o_hi),
             layout.i_slots.eq(quantiser.o_slots),
             layout.i_delta.eq(quantiser.o_delta),
-            layout.i_slot_m1.eq(slot_m1),
+            layout.i_slot_m2.eq(slot_m2),
             self.h.eq(layout.o_h),
             self.start.eq(sequencer.start),
             self.sample.eq(sequencer.tick),
@@ -179,7 +198,7 @@ class GatingSignalGenerator(wiring.Component):
             self.update.eq(commit),
             # slot length of the update in flight: P and b are still from its start on
             slot_len.eq(sequencer.p_lat >> sequencer.bits_lat),
-            slot_m1.eq(slot_len - 1),
+            slot_m2.eq(slot_len - 2),
         ]
         with m.If(commit):
             m.d.sync += h_last.eq(Mux(bbit, quantiser.o_last, decoder.o_h))

@@ -23,7 +23,7 @@ from .params import contract_for, validate_positive
 
 __all__ = ["Quantiser", "SlotLayout"]
 
-SVPWM, DPWM0, DPWM1, DPWM = (MODES.index(name) for name in ("svpwm", "dpwm0", "dpwm1", "dpwm"))
+SVPWM, DPWM0, DPWM = (MODES.index(name) for name in ("svpwm", "dpwm0", "dpwm"))
 
 
 def _lookup(values, index, shape):
@@ -62,11 +62,14 @@ class Quantiser(wiring.Component):
     Arithmetic (contract, "b-bit pulse-width resolution"; ``NF = N FULL``, ``B = max_bits``,
     ``S = 2**b``), all legs in parallel, every stage at most one carry chain:
 
-    1. ``max(T) + min(T)`` (the sector of the dpwm clamp);
-    2. the zero split ``g2 = 2 gamma`` of the mode, and the per-update offsets
-       ``g2 NF + (2 - g2) max + g2 min + NF / S`` and the same minus ``2 NF``;
+    1. ``max(T) + min(T)`` (the sector of the dpwm clamp) and the per-update offsets of
+       ``g2 = 2 gamma`` = 0 and 2: ``g2 NF + (2 - g2) max + g2 min + NF / S`` and the same
+       minus ``2 NF``;
+    2. those of ``g2 = 1``, then the selection of the mode's ``g2`` (for dpwm by the sign of
+       ``max + min``);
     3. per leg ``V_i = offset - 2 T_i`` (= ``2 C_i + NF / S``, the leg's rounded switching
-       instant) and the clamp to ``[0, 2 NF]`` (``V_i >= 2 NF``: the top quotient bit);
+       instant) and ``V_i - 2 NF`` (its sign: the top quotient bit); then, with the load of the
+       divider, the clamp to ``[0, 2 NF]`` (a select of registers);
     4. ``B`` clocks of restoring division by the constant ``2 NF`` (one quotient bit a clock;
        after ``b`` bits the rest are forced to 0): ``m_i = q_i 2**(B - b)``;
     5. ``ceil(log2 N)`` clocks of sums over the legs (``sum m``, ``N m_i``), and alongside
@@ -113,7 +116,7 @@ class Quantiser(wiring.Component):
     Attributes
     ----------
     latency : int
-        ``4 + max_bits + ceil(log2 phases)`` clocks from ``i_valid`` to ``o_valid``.
+        ``5 + max_bits + ceil(log2 phases)`` clocks from ``i_valid`` to ``o_valid``.
     """
 
     def __init__(self, phases: int, width: int, max_bits: int):
@@ -143,7 +146,7 @@ class Quantiser(wiring.Component):
 
     @property
     def latency(self) -> int:
-        return 4 + self.max_bits + ceil_log2(self.phases)
+        return 5 + self.max_bits + ceil_log2(self.phases)
 
     def elaborate(self, platform):
         m = Module()
@@ -168,26 +171,36 @@ class Quantiser(wiring.Component):
                                     unsigned(big + 1))),
         ]
 
-        # ---- stage 1: the sector sum
+        # ---- stage 1: the sector sum, and the dpwm offsets (one adder each, in parallel)
         sum_mm = Signal(signed(c.t_width + 1))
-        m.d.sync += sum_mm.eq(self.i_max + self.i_min)
+        ofs = {name: Signal(wide, name=name) for name in ("o0", "o0m", "o2", "o2m")}
+        m.d.sync += [
+            sum_mm.eq(self.i_max + self.i_min),
+            ofs["o0"].eq(self.i_max * 2 + k_tab[0]),
+            ofs["o0m"].eq(self.i_max * 2 + km_tab[0]),
+            ofs["o2"].eq(self.i_min * 2 + k_tab[2]),
+            ofs["o2m"].eq(self.i_min * 2 + km_tab[2]),
+        ]
+        # the mode decoded once (it is still through the update)
+        is_svpwm, is_dpwm0, is_dpwm = Signal(), Signal(), Signal()
+        m.d.sync += [is_svpwm.eq(self.i_mode == SVPWM), is_dpwm0.eq(self.i_mode == DPWM0),
+                     is_dpwm.eq(self.i_mode == DPWM)]
 
-        # ---- stage 2: zero split and the per-update offsets (one adder each, in parallel)
-        g_one = self.i_mode == SVPWM
-        g_zero = (self.i_mode == DPWM0) | ((self.i_mode == DPWM) & ~sum_mm[-1])
-        sel = Mux(g_one, sum_mm, Mux(g_zero, self.i_max * 2, self.i_min * 2))
-        k_sel = Mux(g_one, k_tab[1], Mux(g_zero, k_tab[0], k_tab[2]))
-        km_sel = Mux(g_one, km_tab[1], Mux(g_zero, km_tab[0], km_tab[2]))
+        # ---- stage 2: the svpwm offset, then the zero split selects (after the adders)
+        g_zero = is_dpwm0 | (is_dpwm & ~sum_mm[-1])
         offset, offset_m = Signal(wide), Signal(wide)
-        m.d.sync += [offset.eq(sel + k_sel), offset_m.eq(sel + km_sel)]
+        m.d.sync += [
+            offset.eq(Mux(is_svpwm, sum_mm + k_tab[1], Mux(g_zero, ofs["o0"], ofs["o2"]))),
+            offset_m.eq(Mux(is_svpwm, sum_mm + km_tab[1], Mux(g_zero, ofs["o0m"], ofs["o2m"]))),
+        ]
 
-        # ---- stage 3: per-leg instants, clamped, loaded into the divider
+        # ---- stage 3: per-leg instants; stage 4: clamped, loaded into the divider
         valid = [self.i_valid]
         for k in range(self.latency):
             reg = Signal(name=f"valid{k + 1}")
             m.d.sync += reg.eq(valid[-1])
             valid.append(reg)
-        load = valid[2]
+        load = valid[3]
         rem_shape = unsigned(div.bit_length())
         run = Signal(range(big + 1))
         want = Signal(range(big + 1))
@@ -200,11 +213,11 @@ class Quantiser(wiring.Component):
             t2 = self.i_t[i] * 2
             v = Signal(wide, name=f"v{i}")
             v_m = Signal(wide, name=f"v{i}_m")
-            m.d.comb += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
+            m.d.sync += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
             top = Signal(name=f"top{i}")
             rem = Signal(rem_shape, name=f"rem{i}")
             q = Signal(big, name=f"q{i}")
-            # ---- stage 4: B restoring steps, 2 rem - 2NF, one carry chain a clock
+            # ---- stage 5: B restoring steps, 2 rem - 2NF, one carry chain a clock
             trial = Signal(signed(rem_shape.width + 2), name=f"trial{i}")
             m.d.comb += trial.eq((rem << 1) - div)
             fits = ~trial[-1]
@@ -221,7 +234,7 @@ class Quantiser(wiring.Component):
                 ]
             quotients.append(Cat(q, top))
 
-        # ---- stage 5: sums over the legs, layout bounds
+        # ---- stage 6: sums over the legs, layout bounds
         count = unsigned((n << big).bit_length())
         total = _sum_tree(m, quotients, tree, count, "sum")
         times_n = []
@@ -245,7 +258,7 @@ class Quantiser(wiring.Component):
                 self.o_first[i].eq(lo == 0),
                 self.o_last[i].eq(last),
             ]
-            # ---- stage 6: the feedback
+            # ---- stage 7: the feedback
             m.d.sync += self.o_units[i].eq(total - times_n[i])
         m.d.comb += self.o_valid.eq(valid[-1])
         return m
@@ -255,11 +268,13 @@ class SlotLayout(wiring.Component):
     """The gate state: an MDFQM state held, or a slot layout played out clock by clock.
 
     At ``i_load`` (registered: the new output is visible in the next cycle) it takes either the
-    constant state ``i_h`` (``i_bbit = 0``) or a layout: slots of ``i_slot_m1 + 1`` clocks,
+    constant state ``i_h`` (``i_bbit = 0``) or a layout: slots of ``i_slot_m2 + 2`` clocks,
     ``i_slots + 1`` of them, the last one held until the next load; leg i on in the slots with
     scaled index ``i_lo[i] <= j < i_hi[i]`` (``j`` advances by ``i_delta``). The state changes
     only at loads and slot boundaries: at a boundary into slot ``j`` a leg turns off if
-    ``j == hi``, else on if ``j == lo`` (equality of registers, no comparator chain).
+    ``j == hi``, else on if ``j == lo`` (equality of registers, no comparator chain). A slot ends
+    when a signed count-down turns negative (its sign bit, no zero detect), and whether another
+    slot follows is a registered flag.
 
     Ports
     -----
@@ -277,8 +292,8 @@ class SlotLayout(wiring.Component):
         Number of slots after the first (``S - 1``).
     i_delta : In(max_bits + 1)
         One slot in scaled indices.
-    i_slot_m1 : In(period_width)
-        Clocks per slot minus one.
+    i_slot_m2 : In(signed(period_width + 1))
+        Clocks per slot minus two (>= -1).
     o_h : Out(phases)
         Gate state (registered; 0 after reset).
 
@@ -304,7 +319,7 @@ class SlotLayout(wiring.Component):
             "i_hi": In(data.ArrayLayout(index, phases)),
             "i_slots": In(max_bits),
             "i_delta": In(max_bits + 1),
-            "i_slot_m1": In(period_width),
+            "i_slot_m2": In(signed(period_width + 1)),
             "o_h": Out(phases),
         })
 
@@ -313,31 +328,43 @@ class SlotLayout(wiring.Component):
         n, big = self.phases, self.max_bits
         lo = [Signal(big + 1, name=f"lo{i}") for i in range(n)]
         hi = [Signal(big + 1, name=f"hi{i}") for i in range(n)]
-        nxt = Signal(big + 1)            # scaled index of the next slot
+        # the leg toggles at the next slot boundary are registers, compared one slot ahead
+        # against the index of the slot after it (so a 1-clock slot needs no compare in front
+        # of the gates)
+        turn_on = [Signal(name=f"turn_on{i}") for i in range(n)]
+        turn_off = [Signal(name=f"turn_off{i}") for i in range(n)]
+        after = Signal(big + 2)          # scaled index of the slot after the next one
         delta = Signal(big + 1)
         left = Signal(big)               # slots still to begin
-        count = Signal(self.period_width)  # clocks left in this slot, minus one
-        slot_m1 = Signal(self.period_width)
-        advance = (count == 0) & (left != 0)
+        more = Signal()                  # left != 0
+        count = Signal(signed(self.period_width + 1))   # clocks left in this slot, minus two
+        slot_m2 = Signal(signed(self.period_width + 1))
+        advance = count[-1] & more
         with m.If(self.i_load):
             m.d.sync += [lo[i].eq(self.i_lo[i]) for i in range(n)]
             m.d.sync += [hi[i].eq(self.i_hi[i]) for i in range(n)]
+            m.d.sync += [turn_off[i].eq(self.i_delta == self.i_hi[i]) for i in range(n)]
+            m.d.sync += [turn_on[i].eq(self.i_delta == self.i_lo[i]) for i in range(n)]
             m.d.sync += [
                 self.o_h.eq(Mux(self.i_bbit, self.i_first, self.i_h)),
-                nxt.eq(self.i_delta),
+                after.eq(self.i_delta * 2),
                 delta.eq(self.i_delta),
-                left.eq(Mux(self.i_bbit, self.i_slots, 0)),
-                count.eq(self.i_slot_m1),
-                slot_m1.eq(self.i_slot_m1),
+                left.eq(self.i_slots),
+                more.eq(self.i_bbit & (self.i_slots != 0)),
+                count.eq(self.i_slot_m2),
+                slot_m2.eq(self.i_slot_m2),
             ]
         with m.Elif(advance):
+            m.d.sync += [turn_off[i].eq(after == hi[i]) for i in range(n)]
+            m.d.sync += [turn_on[i].eq(after == lo[i]) for i in range(n)]
             m.d.sync += [
-                nxt.eq(nxt + delta),
+                after.eq(after + delta),
                 left.eq(left - 1),
-                count.eq(slot_m1),
-                self.o_h.eq(Cat(*[Mux(nxt == hi[i], 0, Mux(nxt == lo[i], 1, self.o_h[i]))
+                more.eq(left != 1),
+                count.eq(slot_m2),
+                self.o_h.eq(Cat(*[Mux(turn_off[i], 0, Mux(turn_on[i], 1, self.o_h[i]))
                                   for i in range(n)])),
             ]
-        with m.Elif(count != 0):
+        with m.Elif(~count[-1]):
             m.d.sync += count.eq(count - 1)
         return m

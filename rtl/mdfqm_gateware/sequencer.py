@@ -1,6 +1,6 @@
 """Update sequencer: an update every P clocks, a sampling tick every OSR updates."""
 
-from amaranth import Array, Const, Module, Mux, Signal
+from amaranth import Array, Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -57,7 +57,8 @@ class UpdateSequencer(wiring.Component):
     long : Out(1)
         The current update is long (registered).
     p_lat : Out(period_width)
-        Period P of the current update, after the clamp (registered).
+        Period P of the current update, after the clamp (registered; valid from the second
+        cycle of the update on).
     mode_clamped : Out(1)
         The last start's ``mode`` was illegal or its ``bits`` was clamped (registered).
 
@@ -122,19 +123,25 @@ class UpdateSequencer(wiring.Component):
 
         if self.long_latency is None:
             clamped = self.period < self.latency
-            minimum_m2 = self.latency - 2
             restart = self.sync_in & (phase >= self.latency - 1)
+            osr_now = Mux(self.osr == 0, 1, self.osr)
+            # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
+            ends = ~self.start & (restart | (left == 0))
+            m.d.sync += [
+                phase.eq(Mux(self.start, 1, phase + 1)),
+                left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2),
+                            left - 1)),
+                start_q.eq(ends),
+                tick_q.eq(ends & (sub == 0)),     # sub only moves in start cycles
+            ]
         else:
-            clamped, minimum_m2, restart = self._generator_latch(m, phase)
-        osr_now = Mux(self.osr == 0, 1, self.osr)
-        # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
-        ends = ~self.start & (restart | (left == 0))
-        m.d.sync += [
-            phase.eq(Mux(self.start, 1, phase + 1)),
-            left.eq(Mux(self.start, Mux(clamped, minimum_m2, self.period - 2), left - 1)),
-            start_q.eq(ends),
-            tick_q.eq(ends & (sub == 0)),     # sub only moves in start cycles
-        ]
+            clamped, ends = self._generator_sequence(m, phase)
+            osr_now = Mux(self.osr == 0, 1, self.osr)
+            m.d.sync += [
+                phase.eq(Mux(self.start, 1, phase + 1)),
+                start_q.eq(ends),
+                tick_q.eq(ends & (sub == 0)),
+            ]
         with m.If(self.start):
             m.d.sync += [
                 sub.eq(Mux(sub + 1 >= osr_now, 0, sub + 1)),
@@ -143,10 +150,17 @@ class UpdateSequencer(wiring.Component):
             ]
         return m
 
-    def _generator_latch(self, m, phase):
-        """Mode/bits clamp, short/long decision and the minimum period of the update starting
-        now: returns (period clamped, minimum period - 2, sync restart)."""
-        big, short = self.long_latency, self.latency
+    def _generator_sequence(self, m, phase):
+        """Mode/bits clamp, short/long decision, minimum period and end of the update (the
+        generator): returns (period clamped at this start, the update ends this cycle).
+
+        ``P = max(period, minimum)`` is never formed in front of the end test: the update ends
+        when both the requested period and the minimum have run, each a signed count-down loaded
+        at the start (``period - 3``, and ``minimum - 3`` from a table of constants) whose sign
+        bit says so: no lookup of the runtime mode and no comparator sits in front of the end.
+        The flag compares ``period`` with every possible minimum in parallel and selects.
+        """
+        big, short, width = self.long_latency, self.latency, self.period_width
         legal = self.mode < len(MODES)
         mode_now = Mux(legal, self.mode, 0)
         bbit_now = mode_now != 0
@@ -154,22 +168,36 @@ class UpdateSequencer(wiring.Component):
         b_now = Mux(bbit_now, bits_now, 0)
         prev_bbit = Signal()
         long_now = bbit_now | prev_bbit
-        # minimum period of a long update for each b: constants, so only a table lookup sits in
-        # front of the comparator (and of the load of the down-counter)
-        table = [min_period(True, b, short, big) for b in range(self.max_bits + 1)]
-        long_min = Array(Const(v, self.period_width) for v in table)[b_now]
-        long_min_m2 = Array(Const(v - 2, self.period_width) for v in table)[b_now]
-        minimum = Mux(long_now, long_min, short)
-        clamped = self.period < minimum
-        minimum_m2 = Mux(long_now, long_min_m2, short - 2)
+        # minimum period of a long update for each code of b_now (padded: a complete case)
+        table = [min_period(True, min(b, self.max_bits), short, big)
+                 for b in range(1 << BITS_WIDTH)]
+        below = Array(self.period < v for v in table)[b_now]
+        clamped = Mux(long_now, below, self.period < short)
+        minimum = Signal(width)
+        period_lat = Signal(width)
+        # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0
+        count = Signal(signed(width + 2))
+        floor = Signal(signed(width + 2))
         restart = self.sync_in & Mux(self.long, phase >= big - 1, phase >= short - 1)
+        # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
+        ends = ~self.start & (restart | (count[-1] & floor[-1]))
+        m.d.sync += [
+            count.eq(Mux(self.start, self.period - 3, count - 1)),
+            floor.eq(Mux(self.start,
+                         Mux(long_now, Array(Const(v - 3, width) for v in table)[b_now],
+                             short - 3),
+                         floor - 1)),
+            # P of the update, from the second cycle of the update on
+            self.p_lat.eq(Mux(period_lat < minimum, minimum, period_lat)),
+        ]
         with m.If(self.start):
             m.d.sync += [
+                minimum.eq(Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)),
+                period_lat.eq(self.period),
                 prev_bbit.eq(bbit_now),
                 self.long.eq(long_now),
                 self.mode_lat.eq(mode_now),
                 self.bits_lat.eq(b_now),
-                self.p_lat.eq(Mux(clamped, minimum, self.period)),
                 self.mode_clamped.eq(~legal | (bbit_now & (bits_now != self.bits))),
             ]
-        return clamped, minimum_m2, restart
+        return clamped, ends

@@ -1,0 +1,47 @@
+"""The gating-signal generator through the vector-file path (tb/vectors.py: no Python per
+cycle), >= 2*10**5 checked cycles, every output every cycle against GeneratorModel: every
+scenario of bbit_stimulus (each mode, random switches, overmodulation, extreme codes) with b
+anywhere in [1, max_bits]."""
+
+import os
+import random
+
+import pytest
+from bbit_stimulus import SCENARIOS, generate
+
+from mdfqm_gateware.generator import GatingSignalGenerator
+from mdfqm_model.contract import Contract
+from vectors import VectorBench
+
+
+def run_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario, seed):
+    """Build the bench, run every scenario, return (checked cycles, mismatches, details)."""
+    contract = Contract(phases, width)
+    bench = VectorBench(GatingSignalGenerator(phases, width, rule, max_bits),
+                        "gating_signal_generator", f"n{phases}-w{width}-{rule}-b{max_bits}")
+    total, mismatches, details = 0, 0, []
+    for scenario in SCENARIOS:
+        rng = random.Random(f"{seed}-{scenario}")
+        stim, expected, _ = generate(rng, scenario, contract, rule, max_bits,
+                                     cycles_per_scenario,
+                                     bits_choices=tuple(range(1, max_bits + 1)), segment=4000)
+        result = bench.run(stim, expected, name=scenario)
+        assert result["cycles"] == cycles_per_scenario, result
+        total += result["cycles"]
+        mismatches += result["mismatches"]
+        details += [f"{scenario}: {line}" for line in result["first"]]
+    return total, mismatches, details
+
+
+@pytest.mark.parametrize(("phases", "width", "rule", "max_bits", "cycles_per_scenario"), [
+    (3, 16, "largest_duty", 8, 30_000),
+    (5, 14, "exact_nearest", 5, 8_000),
+    (4, 10, "largest_duty", 8, 4_000),      # max_bits = width - 2: S up to FULL
+])
+def test_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario):
+    seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
+    print(f"bbit vectors: seed {seed} (replay with SEED={seed})")
+    total, mismatches, details = run_bbit_vectors(phases, width, rule, max_bits,
+                                                  cycles_per_scenario, seed)
+    assert mismatches == 0, f"seed {seed}: {mismatches} mismatches\n" + "\n".join(details)
+    assert total == cycles_per_scenario * len(SCENARIOS)
