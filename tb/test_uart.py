@@ -11,8 +11,9 @@ from demo_models import UartRxModel, UartTxModel
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.demo.uart import UartRx, UartTx, uart_divider
 
-#: edge cases, and the boards' dividers at 115200 baud (16.5, 36, 48 and 50 MHz)
-DIVIDERS = [4, 5, 16, 104, 143, 313, 417, 434]
+#: edge cases, and the smallest and largest of the boards' dividers at 115200 baud (16.5 MHz:
+#: 143, 36 MHz: 313, 48 MHz: 417, 50 MHz: 434); the counters differ only in width
+DIVIDERS = [4, 5, 16, 143, 434]
 
 
 class UartPair(wiring.Component):
@@ -149,7 +150,7 @@ async def uart_stress(dut):
 
 @pytest.mark.parametrize("divider", DIVIDERS)
 def test_uart(divider):
-    frames = 24 if divider <= 104 else 3          # long bits: fewer frames, same paths
+    frames = 24 if divider <= 16 else 3           # long bits: fewer frames, same paths
     run_block(lambda: UartPair(divider), "uart_pair", "test_uart",
               {"divider": divider, "frames": frames})
 
