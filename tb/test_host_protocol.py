@@ -6,8 +6,8 @@ import random
 from types import SimpleNamespace
 
 import pytest
-from demo_models import BridgeModel
 
+from demo_models import BridgeModel
 from mdfqm_gateware.demo.regmap import DEMO_ID, demo_window
 from mdfqm_gateware.host import protocol as proto
 from mdfqm_gateware.host.cli import find_ports, main

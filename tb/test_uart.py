@@ -6,8 +6,8 @@ import pytest
 from amaranth import Module
 from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out, connect
-from demo_models import UartRxModel, UartTxModel
 
+from demo_models import UartRxModel, UartTxModel
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.demo.uart import UartRx, UartTx, uart_divider
 
