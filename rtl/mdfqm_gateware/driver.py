@@ -125,11 +125,13 @@ class LegDriver(wiring.Component):
             m.d.sync += dt_run.eq(dt)
 
         if self.formal:
-            self._properties(m, on, dt)
+            self._properties(m, on, dt, cnt, dt_run)
         return m
 
-    def _properties(self, m, on, dt):
-        """Safety properties, on ghost registers independent of the leg's own counter."""
+    def _properties(self, m, on, dt, cnt, dt_run):
+        """Safety properties, on ghost registers independent of the leg's own counter; the
+        last two asserts are inductive invariants (they make k-induction converge at any
+        ``time_width``)."""
         tw = self.time_width
         gap = Signal(tw + 1, reset_less=True)       # off clocks before this one (saturating)
         need = Signal(tw, reset_less=True)          # clamped dead time of the last on cycle
@@ -160,6 +162,8 @@ class LegDriver(wiring.Component):
             Assert(~(self.upper & ~on_prev) | cmd_prev, "upper turned on while not commanded"),
             Assert(~(self.lower & ~on_prev) | ~cmd_prev, "lower turned on while not commanded"),
             Assert(self.event == turn_on, "event strobe is not the turn-on"),
+            Assert(on | (cnt <= gap), "invariant: the leg's off count never exceeds the gap"),
+            Assert(need == dt_run, "invariant: the remembered dead time is the ghost's"),
             Cover(turn_on & (gap > self.dead_min)),
             Cover(self.upper & ~on_prev),
             Cover(self.lower & ~on_prev),

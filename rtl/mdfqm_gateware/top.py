@@ -268,6 +268,8 @@ class MdfqmTop(wiring.Component):
         all_off = (driver.up == 0) & (driver.lo == 0)
         m.d.comb += [
             Assert(enabled_since_reset | all_off | rst_prev, "gates on before any enable"),
+            Assert(enabled_since_reset | ~driver.active | rst_prev,
+                   "invariant: active before any enable"),
             Assert(dead >= self.dead_min, "DEAD below the floor"),
             Cover(enabled_since_reset & ~all_off),
         ]
