@@ -10,6 +10,9 @@ Scenarios:
   the minimum, at multiples of ``2**b`` and with remainder clocks, OSR and zero policy moving;
 - ``switch``: mode and bits (illegal codes included), period (below the minimum included), OSR,
   sync_in and resets all changing at random cycles;
+- ``handover``: mdfqm and the gamma modes alternating every update or two, small b, mostly the
+  fewest-transitions zero policy, small amplitudes: an MDFQM update right after a layout, whose
+  zero state depends on the layout's last slot;
 - ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
   in random modes;
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
@@ -26,7 +29,7 @@ from mdfqm_model.contract import MODES, min_period
 
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped"}
-SCENARIOS = (*MODES, "switch", "overmod", "extremes")
+SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes")
 INPUTS = ("rst", "ref__valid", "ref__payload", "period", "osr", "zero_policy", "sync_in",
           "mode", "bits")
 
@@ -87,6 +90,12 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                                  rng.randint(0, 2 * model.long_latency), 0])
             osr = rng.choice([0, 1, 2, 4])
             amplitude = rng.uniform(0.05, 1.1) * lin
+        if scenario == "handover" and rng.random() < 1 / (1.5 * model.long_latency):
+            mode = rng.choice([0, 0, 0, 1, 2, 3, 4])
+            bits = rng.choice([1, 1, 2])
+            policy = int(rng.random() < 0.8)
+            period = rng.choice([0, model.long_latency, model.long_latency + 3])
+            amplitude = rng.uniform(0.0, 0.4) * lin
         if scenario == "switch" and rng.random() < 0.0005:
             rst = 1                                   # reset mid-run
         if offered is None and rng.random() < 0.7:    # idle gaps between beats

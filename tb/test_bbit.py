@@ -83,6 +83,12 @@ async def bbit_switch(dut):
 
 
 @cocotb.test()
+async def bbit_handover(dut):
+    """mdfqm and gamma modes alternating every update or two, fewest-transitions zero policy."""
+    await run_scenario(dut, "handover", cycles())
+
+
+@cocotb.test()
 async def bbit_overmodulation(dut):
     """Up to twice the linear range with common mode, random modes: the bound holds."""
     await run_scenario(dut, "overmod", cycles(2))
@@ -176,3 +182,17 @@ def test_core_blocks_unchanged_by_default():
     assert "mode" not in UpdateSequencer(8).signature.members
     assert Integrator(3, 16).unit_shift == 14 and Integrator(3, 16).units_width == 3
     assert Integrator(3, 16, unit_shift=6).units_width == 11
+
+
+@pytest.mark.parametrize("args", [(3, 16, "largest_duty", 8), (5, 16, "exact_nearest", 6),
+                                  (4, 10, "largest_duty", 8), (9, 16, "exact_nearest", 12)])
+def test_bbit_verilog_is_lint_clean(args, tmp_path):
+    """verilator --lint-only -Wall with the project's waivers (mdfqm_gateware.generate.lint)."""
+    from amaranth.back import verilog
+
+    from mdfqm_gateware.generate import lint
+
+    path = tmp_path / "gating_signal_generator.v"
+    path.write_text(verilog.convert(GatingSignalGenerator(*args), name=path.stem,
+                                    emit_src=False))
+    lint(path)

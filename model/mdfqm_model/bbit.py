@@ -32,6 +32,11 @@ Fixed-point contract (extends :mod:`mdfqm_model.contract`; all quantities exact 
   leg's on-time is within half a slot of the exact duty and ``|X_i| <= (N - 1) FULL / S`` (less
   than one quantum ``1/S`` Vdc).
 
+The gateware (``GatingSignalGenerator``) computes exactly this, per leg and without the
+permutation, through the identities stated in :mod:`mdfqm_model.contract` (section "b-bit
+pulse-width resolution") and checked in ``model/tests/test_bbit_hardware.py``; its clock-level
+model is :class:`mdfqm_model.clock.GeneratorModel`, which calls :func:`bbit_update`.
+
 SVPWM definition used by the analysis: this generator with ``mode="svpwm"``, large ``b``
 (default 8: 256 slots per carrier period) and OSR 1; the carrier period is the update period.
 Its quantisation error (< 1/256 Vdc, first-order noise-shaped by the loop) is negligible next to

@@ -111,7 +111,11 @@ slot layout; the MDFQM-only core does not contain them.
   legs in parallel; for b < B its last B - b bits are forced to 0, which is the floor).
   The integrators then take ``U`` in units of ``FULL / 2**B``: ``U_i = (FULL / 2**B)
   (sum_k m_k - N m_i)``, ``m_i = q_i 2**(B - b)``; an MDFQM state's ``N h_i - k`` is scaled by
-  ``2**B``. Saturation (hold on leaving the ``x_width`` word) is unchanged.
+  ``2**B``. ``sum(U) == 0``, so ``sum(X) == 0`` stays exact; saturation (hold on leaving the
+  ``x_width`` word) is unchanged; in the linear range ``|X_i| <= (N - 1) FULL / S``.
+- ``L_b = resolution_latency(N, B) = 7 + depth(sort1) + ceil(log2 N) + B`` (20 for N = 3,
+  B = 8; 21 for N = 5, B = 6): every stage of the quantiser is at most one carry chain, and
+  the division takes one clock per quotient bit. The quantiser runs only for long updates.
 - Short and long updates: an update is *short* if its mode is mdfqm and the previous update's
   mode was mdfqm (after reset the previous mode counts as mdfqm), else *long*. A short update is
   exactly the core's (latency ``L``, minimum period ``L``, sync threshold ``phase + 1 >= L``),
