@@ -55,7 +55,7 @@ sim: $(STAMP)
 
 test: $(STAMP)
 	$(MAKE) --no-print-directory lint
-	$(PY) -m pytest -q model/tests tb -n $(JOBS)
+	$(PY) -m pytest -q model/tests tb -n $(JOBS) --durations=15
 
 soak: $(STAMP)
 	cd tb && ../$(PY) soak.py
