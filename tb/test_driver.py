@@ -29,8 +29,10 @@ class Stimulus:
         self.enable, self.dead, self.min_pulse = 1, p["dead_min"], 0
 
     def dead_choice(self):
-        return self.rng.choice([0, 1, 2, self.p["dead_min"], 3, 5, 9, min(17, self.top),
-                                self.top])
+        # the largest value only with narrow counters: a dead time in force is never shortened
+        # (not even by a reset), so 65535 would silence the legs of the following tests
+        big = self.top if self.top < 100 else 200
+        return self.rng.choice([0, 1, 2, self.p["dead_min"], 3, 5, 9, min(17, self.top), big])
 
     def update_strobe(self):
         """An update every ``period`` clocks; h changes a few legs at a time."""
@@ -84,7 +86,7 @@ def generate(rng, scenario, p, cycles):
             if rng.random() < 0.01:
                 s.dead = s.dead_choice()
             if rng.random() < 0.005:
-                s.min_pulse = rng.choice([0, 1, 3, 10, 30, s.top])
+                s.min_pulse = rng.choice([0, 1, 3, 10, 30, min(s.top, 200)])
             if rng.random() < 0.002:
                 chatter = rng.randint(1, 12)
             clear = int(rng.random() < 0.03)
@@ -143,6 +145,7 @@ async def run_scenario(dut, scenario, cycles):
     p = params()
     rng = seeded_rng(dut, f"driver_{scenario}")
     stim, expected, turn_ons = generate(rng, scenario, p, cycles)
+    assert turn_ons >= 20, f"driver_{scenario}: only {turn_ons} turn-ons, the test is vacuous"
     await start(dut)
     checked = await check_cycles(dut, stim, expected)
     dut._log.info("driver_%s: %d cycles, %d turn-ons, every output equal to the model",
