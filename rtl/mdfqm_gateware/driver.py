@@ -256,7 +256,8 @@ class GateDriver(wiring.Component):
             m.d.sync += self.fault.eq(1)
         with m.Elif(self.fault_clear):
             m.d.sync += self.fault.eq(0)
-        fault_active = self.fault_input | self.fault
+        fault_active = Signal()      # named: the formal tests' "ungated fault" mutant cuts it
+        m.d.comb += fault_active.eq(self.fault_input | self.fault)
 
         # Command and enable, taken at update boundaries; a fault clears the taken enable.
         cmd_lat = Signal(n)
