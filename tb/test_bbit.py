@@ -43,7 +43,7 @@ async def run_scenario(dut, scenario, cycles):
 
 
 def cycles(scale=1):
-    return params().get("cycles", 12000) // scale
+    return params().get("cycles", 30000) // scale
 
 
 @cocotb.test()
