@@ -52,4 +52,6 @@ def assertion_site(path, message: str) -> str:
     """``file:line`` of the ``Assert`` carrying ``message``, as SymbiYosys names a failing one."""
     lines = Path(path).read_text().splitlines()
     number = next(i for i, line in enumerate(lines, 1) if f'"{message}"' in line)
+    while "Assert(" not in lines[number - 1]:     # the statement starts where Assert( is
+        number -= 1
     return f"{Path(path).name}:{number}"

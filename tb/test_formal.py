@@ -8,8 +8,9 @@ wire) and the same properties must produce a counterexample.
 import pytest
 
 from formal import assertion_site, run_sby
-from mdfqm_gateware import driver
+from mdfqm_gateware import driver, integrator
 from mdfqm_gateware.driver import GateDriver
+from mdfqm_gateware.integrator import Integrator
 
 
 def test_sby_finds_an_ungated_fault():
@@ -18,3 +19,19 @@ def test_sby_finds_an_ungated_fault():
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(GateDriver(3, 2, 6, formal=True), "driver_ungated_fault", 12, tasks=("bmc",),
                 keep_failed=False, mutation=("cd dut", "connect -set fault_active 1'0", "cd"))
+
+
+@pytest.mark.parametrize(("phases", "width"), [(3, 8), (4, 8)])
+def test_sby_proves_the_integrator_never_wraps(phases, width):
+    """Properties 5 and sum(X) == 0, for any reference / feedback sequence summing to zero."""
+    run_sby(Integrator(phases, width, formal=True), f"integrator_n{phases}_w{width}",
+            {"prove": 2, "cover": 8})
+
+
+def test_sby_finds_an_unbounded_integrator():
+    """Integrating although the result does not fit: the wrap is caught."""
+    site = assertion_site(integrator.__file__,
+                          "integrator differs from T - U after a commit (it wrapped)")
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
+        run_sby(Integrator(3, 8, formal=True), "integrator_unbounded", 12, tasks=("bmc",),
+                keep_failed=False, mutation=("cd dut", "connect -set fits 1'1", "cd"))

@@ -25,14 +25,9 @@ from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.driver import TIME_WIDTH, validate_dead_min, validate_time_width
 
-__all__ = ["GateDriver", "LegDriver", "validate_bool"]
+from .params import validate_bool
 
-
-def validate_bool(value, name: str) -> bool:
-    """``value`` if it is a ``bool``, else ``ValueError`` naming ``name``."""
-    if not isinstance(value, bool):
-        raise ValueError(f"{name} must be a bool, not {value!r}")
-    return value
+__all__ = ["GateDriver", "LegDriver"]
 
 
 class LegDriver(wiring.Component):

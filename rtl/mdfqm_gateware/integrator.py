@@ -1,12 +1,13 @@
 """Weighting-filter integrators: T = X + R at the update start, X <- T - v(h) at the commit."""
 
-from amaranth import Cat, Module, Mux, Signal, signed
+from amaranth import Cat, Module, Mux, ResetSignal, Signal, signed
+from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import signed_bits
 
-from .params import contract_for, validate_positive
+from .params import contract_for, validate_bool, validate_positive
 
 
 class Integrator(wiring.Component):
@@ -47,8 +48,10 @@ class Integrator(wiring.Component):
         from ``unit_shift`` up.
     """
 
-    def __init__(self, phases: int, width: int, unit_shift: int | None = None):
+    def __init__(self, phases: int, width: int, unit_shift: int | None = None,
+                 formal: bool = False):
         self.contract = contract_for(phases, width)
+        self.formal = validate_bool(formal, "formal")
         self.phases = phases
         c = self.contract
         if unit_shift is None:
@@ -93,6 +96,53 @@ class Integrator(wiring.Component):
             fits_each.append((top == 0) | (top == (1 << len(top)) - 1))
             with m.If(self.i_commit):
                 m.d.sync += x_written[i].eq(Cat(self.o_t[i][:shift], high))
+        fits = Signal()      # named: the formal tests' "unbounded integrator" variant forces it
+        m.d.comb += fits.eq(Cat(*fits_each).all())
         with m.If(self.i_commit):
-            m.d.sync += [x_kept.eq(self.o_x), self.o_saturated.eq(~Cat(*fits_each).all())]
+            m.d.sync += [x_kept.eq(self.o_x), self.o_saturated.eq(~fits)]
+        if self.formal:
+            self._properties(m, x_written, x_kept)
         return m
+
+    def _properties(self, m, x_written, x_kept):
+        """Contract properties 5 (the integrators never wrap) and sum(X) == 0, for any input
+        sequence whose references and feedback each sum to zero (as the reference stage and the
+        decoder guarantee)."""
+        n, c = self.phases, self.contract
+        exact_width = c.t_width + 2
+        m.d.comb += [
+            Assume(sum(self.i_r[i] for i in range(n)) == 0),
+            Assume(sum(self.i_units[i] for i in range(n)) == 0),
+        ]
+        units_max = (n - 1) << (c.width - 2 - self.unit_shift)
+        for i in range(n):
+            m.d.comb += Assume((self.i_units[i] <= units_max) & (self.i_units[i] >= -units_max))
+        # what the commit of this cycle must produce, one clock later
+        commit_prev = Signal(reset_less=True)
+        exact_prev = Signal(data.ArrayLayout(signed(exact_width), n), reset_less=True)
+        x_prev = Signal(data.ArrayLayout(signed(c.x_width), n), reset_less=True)
+        m.d.sync += [commit_prev.eq(self.i_commit), x_prev.eq(self.o_x)]
+        m.d.sync += [exact_prev[i].eq(self.o_t[i] - (self.i_units[i] << self.unit_shift))
+                     for i in range(n)]
+        rst_prev = Signal(reset_less=True)
+        m.d.sync += rst_prev.eq(ResetSignal())
+        after_commit = commit_prev & ~rst_prev
+        for i in range(n):
+            m.d.comb += [
+                Assert(~after_commit | self.o_saturated | (self.o_x[i] == exact_prev[i]),
+                       "integrator differs from T - U after a commit (it wrapped)"),
+                Assert(~after_commit | ~self.o_saturated | (self.o_x[i] == x_prev[i]),
+                       "integrator not held by a saturated commit"),
+            ]
+        def total(value):
+            return sum(value[i] for i in range(n))
+
+        m.d.comb += [
+            Assert(total(self.o_x) == 0, "integrator state does not sum to zero"),
+            # inductive helpers: what the two registers behind o_x and T hold
+            Assert(total(self.o_t) == 0, "T does not sum to zero"),
+            Assert(total(x_kept) == 0, "the kept integrator state does not sum to zero"),
+            Assert(self.o_saturated | (total(x_written) == 0),
+                   "the written integrator state does not sum to zero"),
+        ]
+        m.d.comb += Cover(after_commit & self.o_saturated)

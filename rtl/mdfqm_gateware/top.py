@@ -16,8 +16,8 @@ from mdfqm_model.top import info_word, validate_top_phases
 
 from .bus import WishboneSignature
 from .core import MdfqmCore
-from .driver import GateDriver, validate_bool
-from .params import contract_for, validate_rule
+from .driver import GateDriver
+from .params import contract_for, validate_bool, validate_rule
 
 __all__ = ["MdfqmTop"]
 
