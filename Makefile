@@ -65,6 +65,7 @@ perf: $(STAMP)
 
 report: $(STAMP)
 	$(PY) -m mdfqm_model.analysis --out reports
+	$(PY) tb/gateware_report.py --out reports
 	$(PY) -m boards.report
 
 clean:

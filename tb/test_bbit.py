@@ -8,8 +8,8 @@ model (CoreModel)."""
 
 import cocotb
 import pytest
-from bbit_stimulus import generate, generate_core
 
+from bbit_stimulus import generate, generate_core
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.integrator import Integrator

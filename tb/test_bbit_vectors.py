@@ -7,8 +7,8 @@ import os
 import random
 
 import pytest
-from bbit_stimulus import SCENARIOS, generate
 
+from bbit_stimulus import SCENARIOS, generate
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_model.contract import Contract
 from vectors import VectorBench

@@ -11,6 +11,7 @@ from formal import assertion_site, run_sby
 from mdfqm_gateware import driver, integrator
 from mdfqm_gateware.driver import GateDriver
 from mdfqm_gateware.integrator import Integrator
+from mdfqm_gateware.selector import StateDecoder
 
 
 def test_sby_finds_an_ungated_fault():
@@ -35,3 +36,10 @@ def test_sby_finds_an_unbounded_integrator():
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(Integrator(3, 8, formal=True), "integrator_unbounded", 12, tasks=("bmc",),
                 keep_failed=False, mutation=("cd dut", "connect -set fits 1'1", "cd"))
+
+
+@pytest.mark.parametrize("phases", [3, 5])
+def test_sby_proves_the_state_is_a_candidate_and_the_feedback_its_voltage(phases):
+    """Property 6 for any permutation, winner, policy and previous state; covers reach the
+    last staircase column and the all-on zero state."""
+    run_sby(StateDecoder(phases, formal=True), f"decoder_n{phases}", {"prove": 2, "cover": 4})

@@ -2,8 +2,9 @@
 
 import csv
 
-import gateware_report
 import pytest
+
+import gateware_report
 
 
 def test_short_report_agrees_with_the_model(tmp_path):

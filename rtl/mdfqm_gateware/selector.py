@@ -1,14 +1,15 @@
 """Selection: duties or exact scores of the staircase states, sort2 (the max-tournament), and
 the decoder that turns the winner back into the gate state h."""
 
-from amaranth import Cat, Const, Module, Mux, Signal, signed
+from amaranth import Cat, Const, Module, Mux, ResetSignal, Signal, signed
+from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import ARGMAX_GROUP, argmax_stages, signed_bits
 
 from .arith import greater, greater_equal
-from .params import contract_for, validate_positive, validate_rule
+from .params import contract_for, validate_bool, validate_positive, validate_rule
 from .sort import validate_width
 
 
@@ -161,8 +162,9 @@ class StateDecoder(wiring.Component):
 
     latency = 1
 
-    def __init__(self, phases: int):
+    def __init__(self, phases: int, formal: bool = False):
         validate_positive(phases, "phases", minimum=3)
+        self.formal = validate_bool(formal, "formal")
         self.phases = phases
         self.units_width = signed_bits(-(phases - 1), phases - 1)
         super().__init__({
@@ -195,4 +197,32 @@ class StateDecoder(wiring.Component):
             m.d.comb += [h.eq(Cat(*legs)), count.eq(self.i_j)]
         m.d.sync += [self.o_units[i].eq(Mux(h[i], n, 0) - count) for i in range(n)]
         m.d.sync += [self.o_h.eq(h), self.o_valid.eq(self.i_valid)]
+        if self.formal:
+            self._properties(m)
         return m
+
+    def _properties(self, m):
+        """Contract property 6: the state is a member of the candidate set of its inputs (the
+        staircase column j of the permutation, or all-off / all-on for j = 0) and the feedback is
+        exactly its phase voltage, for any permutation, winner and previous state."""
+        n = self.phases
+        for leg in range(n):     # i_perm is a permutation (sort1 guarantees it)
+            m.d.comb += Assume(Cat(*[self.i_perm[p] == leg for p in range(n)]).any())
+        m.d.comb += Assume(self.i_j < n)    # sort2's winner is a candidate index
+        perm = Signal(data.ArrayLayout(range(n), n), reset_less=True)
+        j = Signal(range(n), reset_less=True)
+        started = Signal(reset_less=True)
+        rst_prev = Signal(reset_less=True)
+        m.d.sync += [perm.eq(self.i_perm), j.eq(self.i_j), started.eq(1),
+                     rst_prev.eq(ResetSignal())]
+        staircase = Cat(*[Cat(*[(p < j) & (perm[p] == leg) for p in range(n)]).any()
+                          for leg in range(n)])
+        count = sum(self.o_h[i] for i in range(n))
+        in_set = Mux(j == 0, (self.o_h == 0) | (self.o_h == (1 << n) - 1),
+                     self.o_h == staircase)
+        m.d.comb += Assert(~started | rst_prev | in_set,
+                           "state outside the candidate set of its inputs")
+        for i in range(n):
+            m.d.comb += Assert(self.o_units[i] == Mux(self.o_h[i], n, 0) - count,
+                               "feedback is not the phase voltage of the state")
+        m.d.comb += [Cover(started & (j == n - 1)), Cover(started & (self.o_h == (1 << n) - 1))]
