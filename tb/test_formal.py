@@ -40,6 +40,12 @@ def test_sby_finds_an_unbounded_integrator():
 
 @pytest.mark.parametrize("phases", [3, 5])
 def test_sby_proves_the_state_is_a_candidate_and_the_feedback_its_voltage(phases):
-    """Property 6 for any permutation, winner, policy and previous state; covers reach the
-    last staircase column and the all-on zero state."""
+    """Property 6 for any permutation, winner, policy and previous state; the covers reach
+    every one of the 2**N gate states."""
     run_sby(StateDecoder(phases, formal=True), f"decoder_n{phases}", {"prove": 2, "cover": 4})
+
+
+def test_sby_proves_the_five_leg_gate_driver():
+    """The driver's safety properties (both-on, dead time, fault, reset) for five legs."""
+    run_sby(GateDriver(5, 5, 16, True, False, formal=True), "gate_driver_n5", 20,
+            ("prove", "cover"))

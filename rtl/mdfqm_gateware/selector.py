@@ -225,4 +225,5 @@ class StateDecoder(wiring.Component):
         for i in range(n):
             m.d.comb += Assert(self.o_units[i] == Mux(self.o_h[i], n, 0) - count,
                                "feedback is not the phase voltage of the state")
-        m.d.comb += [Cover(started & (j == n - 1)), Cover(started & (self.o_h == (1 << n) - 1))]
+        # every one of the 2**N gate states is reached (all-on through the zero policy)
+        m.d.comb += [Cover(started & ~rst_prev & (self.o_h == state)) for state in range(1 << n)]
