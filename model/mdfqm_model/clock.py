@@ -59,6 +59,7 @@ from .contract import (
     resolution_latency,
     validate_max_bits,
 )
+from .inputs import check_bit, check_uint
 from .update import mdfqm_update, remove_common_mode, validate_rule, validate_zero_policy
 
 __all__ = ["GENERATOR_OUTPUTS", "OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel", "GeneratorModel"]
@@ -75,22 +76,6 @@ PERIOD_MAX = (1 << 16) - 1
 OSR_MAX = (1 << 8) - 1
 
 
-def _bit(value, name: str) -> int:
-    if isinstance(value, (bool, np.bool_)):
-        return int(value)
-    if isinstance(value, (int, np.integer)) and value in (0, 1):
-        return int(value)
-    raise ValueError(f"{name} must be 0 or 1, not {value!r}")
-
-
-def _uint(value, bits: int, name: str) -> int:
-    if (
-        isinstance(value, (bool, np.bool_))
-        or not isinstance(value, (int, np.integer))
-        or not 0 <= value < (1 << bits)
-    ):
-        raise ValueError(f"{name} must be an unsigned {bits}-bit integer, not {value!r}")
-    return int(value)
 
 
 class CoreModel:
@@ -192,15 +177,15 @@ class CoreModel:
         ``extra``: the inputs a subclass adds (none for the core).
         """
         extra = self._check_extra(extra)
-        rst = _bit(rst, "rst")
-        ref_valid = _bit(ref_valid, "ref_valid")
+        rst = check_bit(rst, "rst")
+        ref_valid = check_bit(ref_valid, "ref_valid")
         ref = (0,) * self.phases if ref is None else self._check_ref(ref)
-        period = self.latency if period is None else _uint(period, 16, "period")
-        osr = _uint(osr, 8, "osr")
+        period = self.latency if period is None else check_uint(period, 16, "period")
+        osr = check_uint(osr, 8, "osr")
         if isinstance(zero_policy, np.integer):
             zero_policy = int(zero_policy)
         zero_policy = validate_zero_policy(zero_policy)
-        sync_in = _bit(sync_in, "sync_in")
+        sync_in = check_bit(sync_in, "sync_in")
         out = self.outputs()
         self.cycle += 1
         if rst:
@@ -401,8 +386,8 @@ class GeneratorModel(CoreModel):
         unknown = set(extra) - {"mode", "bits"}
         if unknown:
             raise TypeError(f"GeneratorModel.step() got unexpected inputs {sorted(unknown)}")
-        mode = _uint(extra.get("mode", 0), MODE_WIDTH, "mode")
-        bits = _uint(extra.get("bits", 0), BITS_WIDTH, "bits")
+        mode = check_uint(extra.get("mode", 0), MODE_WIDTH, "mode")
+        bits = check_uint(extra.get("bits", 0), BITS_WIDTH, "bits")
         return {"mode": mode, "bits": bits}
 
     def _latch(self, period: int, extra: dict):

@@ -67,6 +67,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from .inputs import check_bit, check_uint
+
 __all__ = [
     "DRIVER_OUTPUTS",
     "TIME_WIDTH",
@@ -84,22 +86,6 @@ TIME_WIDTH = 16
 DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active")
 
 
-def _bit(value, name: str) -> int:
-    if isinstance(value, (bool, np.bool_)):
-        return int(value)
-    if isinstance(value, (int, np.integer)) and value in (0, 1):
-        return int(value)
-    raise ValueError(f"{name} must be 0 or 1, not {value!r}")
-
-
-def _uint(value, bits: int, name: str) -> int:
-    if (
-        isinstance(value, (bool, np.bool_))
-        or not isinstance(value, (int, np.integer))
-        or not 0 <= value < (1 << bits)
-    ):
-        raise ValueError(f"{name} must be an unsigned {bits}-bit integer, not {value!r}")
-    return int(value)
 
 
 def validate_time_width(time_width) -> int:
@@ -243,14 +229,14 @@ class GateDriverModel:
     def step(
         self, rst=0, h=0, update=0, enable=0, dead=0, min_pulse=0, fault_in=0, fault_clear=0
     ) -> dict:
-        rst = _bit(rst, "rst")
-        h = _uint(h, self.phases, "h")
-        update = _bit(update, "update")
-        enable = _bit(enable, "enable")
-        dead = _uint(dead, self.time_width, "dead")
-        min_pulse = _uint(min_pulse, self.time_width, "min_pulse")
-        fault_in = _bit(fault_in, "fault_in")
-        fault_clear = _bit(fault_clear, "fault_clear")
+        rst = check_bit(rst, "rst")
+        h = check_uint(h, self.phases, "h")
+        update = check_bit(update, "update")
+        enable = check_bit(enable, "enable")
+        dead = check_uint(dead, self.time_width, "dead")
+        min_pulse = check_uint(min_pulse, self.time_width, "min_pulse")
+        fault_in = check_bit(fault_in, "fault_in")
+        fault_clear = check_bit(fault_clear, "fault_clear")
         out = self.outputs()
 
         fault_active = self.fault_input or self.fault

@@ -50,6 +50,7 @@ import numpy as np
 from .clock import CoreModel
 from .contract import RULES
 from .driver import TIME_WIDTH, GateDriverModel, validate_dead_min
+from .inputs import check_bit
 
 __all__ = [
     "ADC_COUNTER_WIDTH",
@@ -143,10 +144,6 @@ def _u32(value, name):
     return int(value)
 
 
-def _bit(value, name):
-    if isinstance(value, (bool, np.bool_)) or value not in (0, 1):
-        raise ValueError(f"{name} must be 0 or 1, not {value!r}")
-    return int(value)
 
 
 class TopModel:
@@ -253,8 +250,9 @@ class TopModel:
     def step(self, rst=0, wb_cyc=0, wb_stb=0, wb_we=0, wb_adr=0, wb_dat_w=0, wb_sel=0xF,
              ref_valid=0, ref=None, fault_in=0, sync_in=0) -> dict:
         """Outputs visible during this cycle, then advance to the next one."""
-        rst = _bit(rst, "rst")
-        wb_cyc, wb_stb, wb_we = _bit(wb_cyc, "wb_cyc"), _bit(wb_stb, "wb_stb"), _bit(wb_we, "wb_we")
+        rst = check_bit(rst, "rst")
+        wb_cyc, wb_stb = check_bit(wb_cyc, "wb_cyc"), check_bit(wb_stb, "wb_stb")
+        wb_we = check_bit(wb_we, "wb_we")
         if (isinstance(wb_adr, (bool, np.bool_)) or not isinstance(wb_adr, (int, np.integer))
                 or not 0 <= wb_adr < (1 << ADDR_WIDTH)):
             raise ValueError(f"wb_adr must be an unsigned {ADDR_WIDTH}-bit integer, not {wb_adr!r}")
@@ -262,8 +260,8 @@ class TopModel:
         wb_dat_w = _u32(wb_dat_w, "wb_dat_w")
         if isinstance(wb_sel, bool) or wb_sel not in range(16):
             raise ValueError(f"wb_sel must be an unsigned 4-bit integer, not {wb_sel!r}")
-        ref_valid = _bit(ref_valid, "ref_valid")
-        fault_in, sync_in = _bit(fault_in, "fault_in"), _bit(sync_in, "sync_in")
+        ref_valid = check_bit(ref_valid, "ref_valid")
+        fault_in, sync_in = check_bit(fault_in, "fault_in"), check_bit(sync_in, "sync_in")
 
         req = wb_cyc and wb_stb and not self.ack
         wr = req and wb_we
