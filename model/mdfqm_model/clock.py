@@ -15,8 +15,9 @@ Registers (all reset synchronously to zero)
 - ``sync_in`` (instances sharing update boundaries): high in a cycle whose ``phase + 1 >= L``
   (the update in flight has committed by the next cycle) makes the next cycle an update start;
   earlier in an update it is ignored, so it can never cut an update short. ``start`` (output) is
-  high in every update start cycle: wire one instance's ``start`` to the others' ``sync_in`` and
-  they start one clock after it.
+  high in every update start cycle: wire one instance's ``start`` to the others' ``sync_in``; a
+  follower out of step restarts one clock after the leader's start, one already in step (same
+  period, common reset) stays in the same clock, since sync_in is ignored at its own start.
 - ``sub``: update counter of the sampling switch; a start with ``sub == 0`` is a *sampling tick*
   (output ``sample`` = 1 in that cycle). At every start ``sub <= 0 if sub + 1 >= osr else sub + 1``,
   ``osr`` being the value latched at that start (this cycle's input, clamped to >= 1).

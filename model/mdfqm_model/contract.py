@@ -71,8 +71,9 @@ All registers reset synchronously to zero. ``L = loop_latency(N, rule)`` clocks.
   update) else ``phase + 1``.
 - Sync: ``sync_in`` high in a cycle with ``phase + 1 >= L`` (the update in flight is committed
   by the next cycle) makes the next cycle an update start; earlier in an update it is ignored,
-  so an update is never cut short. Wire one instance's ``start`` to the others' ``sync_in``:
-  they start one clock after it.
+  so an update is never cut short. Wire one instance's ``start`` to the others' ``sync_in``: a
+  follower out of step restarts one clock after the leader's start; one already in step (same
+  period, common reset) stays in the same clock (sync_in is ignored at its own start).
 - Sampling switch: a counter ``sub`` of updates; an update start with ``sub == 0`` is a
   *sampling tick* (``sample`` output high that cycle). At each update start
   ``sub <- 0 if sub + 1 >= osr else sub + 1``.
