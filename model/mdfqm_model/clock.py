@@ -60,7 +60,7 @@ from .contract import (
     resolution_latency,
     validate_max_bits,
 )
-from .inputs import check_bit, check_uint
+from .inputs import check_bit, check_uint, stimulus_columns
 from .update import mdfqm_update, remove_common_mode, validate_rule, validate_zero_policy
 
 __all__ = ["GENERATOR_OUTPUTS", "OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel", "GeneratorModel"]
@@ -276,43 +276,7 @@ class CoreModel:
         length ``C``; with ``trace_state`` also ``x`` (C x N, the integrator visible in each cycle)
         and ``phase``, ``sub``, ``full``.
         """
-        names = self.INPUTS
-        unknown = set(stim) - set(names) - {"cycles"}
-        if unknown:
-            raise ValueError(f"unknown stimulus names {sorted(unknown)}; known: {names}")
-        lengths = set()
-        cols = {}
-        for name in names:
-            if name not in stim:
-                continue
-            a = np.asarray(stim[name])
-            if name == "ref":
-                if a.ndim == 1:
-                    if a.shape[0] != self.phases:
-                        raise ValueError(f"ref must be C x {self.phases} or {self.phases} values")
-                    cols[name] = ("scalar", tuple(int(v) for v in a))
-                    continue
-                if a.ndim != 2 or a.shape[1] != self.phases:
-                    raise ValueError(f"ref must be C x {self.phases}, got shape {a.shape}")
-                cols[name] = ("array", a.tolist())
-                lengths.add(a.shape[0])
-            elif a.ndim == 0:
-                cols[name] = ("scalar", a.item())
-            elif a.ndim == 1:
-                cols[name] = ("array", a.tolist())
-                lengths.add(a.shape[0])
-            else:
-                raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {a.shape}")
-        if len(lengths) > 1:
-            raise ValueError(f"stimulus arrays differ in length: {sorted(lengths)}")
-        if lengths:
-            c = lengths.pop()
-            if "cycles" in stim and stim["cycles"] != c:
-                raise ValueError("stim['cycles'] disagrees with the array lengths")
-        elif "cycles" in stim:
-            c = int(stim["cycles"])
-        else:
-            raise ValueError("give at least one stimulus array or stim['cycles']")
+        cols, c = stimulus_columns(stim, self.INPUTS, {"ref": self.phases})
         out = {k: np.zeros(c, dtype=np.int64) for k in self.OUTPUTS}
         if trace_state:
             out["x"] = np.zeros((c, self.phases), dtype=np.int64)

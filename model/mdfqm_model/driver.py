@@ -67,7 +67,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from .inputs import check_bit, check_uint
+from .inputs import check_bit, check_uint, stimulus_columns
 
 __all__ = [
     "DRIVER_OUTPUTS",
@@ -264,28 +264,7 @@ class GateDriverModel:
 
 
 def _simulate(step, names, outputs, stim) -> dict:
-    unknown = set(stim) - set(names) - {"cycles"}
-    if unknown:
-        raise ValueError(f"unknown stimulus names {sorted(unknown)}; known: {names}")
-    cols, lengths = {}, set()
-    for name in names:
-        if name in stim:
-            a = np.asarray(stim[name])
-            if a.ndim == 0:
-                cols[name] = ("scalar", a.item())
-            elif a.ndim == 1:
-                cols[name] = ("array", a.tolist())
-                lengths.add(a.shape[0])
-            else:
-                raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {a.shape}")
-    if len(lengths) > 1:
-        raise ValueError(f"stimulus arrays differ in length: {sorted(lengths)}")
-    if lengths:
-        c = lengths.pop()
-    elif "cycles" in stim:
-        c = int(stim["cycles"])
-    else:
-        raise ValueError("give at least one stimulus array or stim['cycles']")
+    cols, c = stimulus_columns(stim, names)
     out = {k: np.zeros(c, dtype=np.int64) for k in outputs}
     for i in range(c):
         kw = {n: (v[i] if kind == "array" else v) for n, (kind, v) in cols.items()}
