@@ -21,7 +21,7 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate bitstream test lint model-test sim soak perf report clean distclean
+.PHONY: all setup generate bitstream test lint model-test sim prove-long soak perf report clean distclean
 
 all: generate bitstream
 
@@ -56,6 +56,9 @@ sim: $(STAMP)
 test: $(STAMP)
 	$(MAKE) --no-print-directory lint
 	$(PY) -m pytest -q model/tests tb -n $(JOBS) --durations=15
+
+prove-long: $(STAMP)
+	$(PY) -m pytest -q tb -m long_proof -n $(JOBS) --durations=5
 
 soak: $(STAMP)
 	cd tb && ../$(PY) soak.py

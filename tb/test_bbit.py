@@ -169,6 +169,8 @@ def test_bbit_rejects_bad_parameters(kwargs, message):
      "period_width must hold the longest minimum period 256, not 8"),
     (lambda: Integrator(3, 16, unit_shift=15), "unit_shift must be an integer in [0, 14], not 15"),
     (lambda: Integrator(3, 16, unit_shift=-1), "unit_shift must be an integer in [0, 14], not -1"),
+    (lambda: Integrator(3, 16, formal_sums=0), "formal_sums must be a bool, not 0"),
+    (lambda: GatingSignalGenerator(formal="yes"), "formal must be a bool, not 'yes'"),
 ])
 def test_blocks_reject_bad_parameters(factory, message):
     with pytest.raises(ValueError) as info:

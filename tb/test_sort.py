@@ -42,15 +42,12 @@ async def sort_random_and_ties(dut):
     index_width = max(1, (count - 1).bit_length())
     want_values, want_index, want_valid = [], [], []
     for cycle in range(len(vectors)):
-        if cycle < latency:                      # pipeline registers still hold their reset 0
-            want_values.append([0] * count)
-            want_index.append([0] * count)
-            want_valid.append(0)
-        else:
-            rho, perm = sort1(vectors[cycle - latency])
-            want_values.append(list(rho))
-            want_index.append(list(perm))
-            want_valid.append(valid[cycle - latency])
+        # after reset the pipeline holds the sort of all-zero values (the identity permutation)
+        sorted_input = vectors[cycle - latency] if cycle >= latency else [0] * count
+        rho, perm = sort1(sorted_input)
+        want_values.append(list(rho))
+        want_index.append(list(perm))
+        want_valid.append(valid[cycle - latency] if cycle >= latency else 0)
     await start(dut)
     await check_cycles(
         dut,

@@ -7,7 +7,7 @@ from amaranth.lib.wiring import In, Out, connect
 from mdfqm_model.contract import loop_latency
 
 from .integrator import Integrator
-from .params import contract_for, validate_positive, validate_rule
+from .params import contract_for, validate_bool, validate_positive, validate_rule
 from .reference import ReferenceStage
 from .selector import ArgMax, Candidates, StateDecoder, candidate_width
 from .sequencer import UpdateSequencer
@@ -59,6 +59,11 @@ class MdfqmCore(wiring.Component):
         Reference width; ``FULL = 2**(width-2) >= 16 * phases``.
     rule : "largest_duty" | "exact_nearest"
         Selection rule (identical results for three phases).
+    formal : bool
+        Emit the blocks' properties for the formal tests, none of them an assumption: the
+        integrators never wrap (property 5), sort1 is a stable descending sort, sort2 picks the
+        first maximum, the state is a candidate and the feedback its phase voltage (property 6).
+        The drop-in Verilog (``False``) has none.
 
     Attributes
     ----------
@@ -66,9 +71,11 @@ class MdfqmCore(wiring.Component):
         Loop latency in clocks = the smallest update period (8 for three phases).
     """
 
-    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty"):
+    def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
+                 formal: bool = False):
         self.contract = contract_for(phases, width)
         self.rule = validate_rule(rule)
+        self.formal = validate_bool(formal, "formal")
         self.phases, self.width = phases, width
         self.latency = loop_latency(phases, rule)
         super().__init__({
@@ -90,11 +97,13 @@ class MdfqmCore(wiring.Component):
         n, c = self.phases, self.contract
         m.submodules.sequencer = sequencer = UpdateSequencer(self.latency)
         m.submodules.reference = reference = ReferenceStage(n, self.width)
-        m.submodules.integrator = integrator = Integrator(n, self.width)
-        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width)
+        formal = self.formal
+        m.submodules.integrator = integrator = Integrator(n, self.width, formal=formal,
+                                                          formal_sums=False)
+        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal)
         m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
-        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width))
-        m.submodules.decoder = decoder = StateDecoder(n)
+        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width), formal=formal)
+        m.submodules.decoder = decoder = StateDecoder(n, formal=formal, assume_inputs=False)
         validate_positive(self.latency, "latency", minimum=1 + sort1.latency + 3)
 
         connect(m, wiring.flipped(self.ref), reference.ref)

@@ -1,19 +1,21 @@
 """The gating-signal generator: MDFQM, SVPWM, DPWM and any b-bit resolution between them."""
 
 from amaranth import Module, Mux, Signal, signed
+from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out, connect
 
 from mdfqm_model.contract import (
     BITS_WIDTH,
     MODE_WIDTH,
+    MODES,
     loop_latency,
     resolution_latency,
     validate_max_bits,
 )
 
 from .integrator import Integrator
-from .params import contract_for, validate_rule
+from .params import contract_for, validate_bool, validate_rule
 from .reference import ReferenceStage
 from .resolution import Quantiser, SlotLayout
 from .selector import ArgMax, Candidates, StateDecoder, candidate_width
@@ -87,6 +89,11 @@ class GatingSignalGenerator(wiring.Component):
         As :class:`~.core.MdfqmCore`'s.
     max_bits : int in [1, min(12, width - 2)]
         Largest resolution b offered (2**max_bits slots per update).
+    formal : bool
+        Emit the properties for the formal tests (none of them an assumption): the core's
+        blocks' (as :class:`~.core.MdfqmCore` ``formal``), the mode and b in force always legal,
+        and covers of an update in every mode, of the slot layout switching the gates inside an
+        update in every gamma mode, and of both clamps.
 
     Attributes
     ----------
@@ -97,9 +104,10 @@ class GatingSignalGenerator(wiring.Component):
     """
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
-                 max_bits: int = 8):
+                 max_bits: int = 8, formal: bool = False):
         self.contract = contract_for(phases, width)
         self.rule = validate_rule(rule)
+        self.formal = validate_bool(formal, "formal")
         self.max_bits = validate_max_bits(max_bits, width)
         self.phases, self.width = phases, width
         self.latency = loop_latency(phases, rule)
@@ -127,12 +135,13 @@ class GatingSignalGenerator(wiring.Component):
         m.submodules.sequencer = sequencer = UpdateSequencer(
             self.latency, long_latency=self.long_latency, max_bits=big)
         m.submodules.reference = reference = ReferenceStage(n, self.width)
-        m.submodules.integrator = integrator = Integrator(n, self.width,
-                                                          unit_shift=self.width - 2 - big)
-        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width)
+        formal = self.formal
+        m.submodules.integrator = integrator = Integrator(
+            n, self.width, unit_shift=self.width - 2 - big, formal=formal, formal_sums=False)
+        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal)
         m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
-        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width))
-        m.submodules.decoder = decoder = StateDecoder(n)
+        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width), formal=formal)
+        m.submodules.decoder = decoder = StateDecoder(n, formal=formal, assume_inputs=False)
         m.submodules.quantiser = quantiser = Quantiser(n, self.width, big)
         m.submodules.layout = layout = SlotLayout(n, big, len(self.period))
         assert 2 + sort1.latency + quantiser.latency == self.long_latency
@@ -202,4 +211,23 @@ class GatingSignalGenerator(wiring.Component):
         ]
         with m.If(commit):
             m.d.sync += h_last.eq(Mux(bbit, quantiser.o_last, decoder.o_h))
+        if formal:
+            self._properties(m, sequencer, commit)
         return m
+
+    def _properties(self, m, sequencer, commit):
+        """The mode and b in force are legal whatever arrives; every mode is reachable, and in
+        every gamma mode the layout switches the gates inside an update."""
+        mode, bits = sequencer.mode_lat, sequencer.bits_lat
+        m.d.comb += [
+            Assert(mode < len(MODES), "the mode in force is not a legal mode"),
+            Assert(Mux(mode == 0, bits == 0, (bits >= 1) & (bits <= self.max_bits)),
+                   "the resolution in force is outside [1, max_bits]"),
+        ]
+        h_prev = Signal.like(self.h, name="formal_h_prev", reset_less=True)
+        m.d.sync += h_prev.eq(self.h)
+        for code in range(len(MODES)):
+            m.d.comb += Cover(commit & (mode == code))
+            if code:
+                m.d.comb += Cover(~self.update & (self.h != h_prev) & (mode == code))
+        m.d.comb += [Cover(self.mode_clamped), Cover(self.period_clamped)]

@@ -1,7 +1,7 @@
 """Selection: duties or exact scores of the staircase states, sort2 (the max-tournament), and
 the decoder that turns the winner back into the gate state h."""
 
-from amaranth import Cat, Const, Module, Mux, ResetSignal, Signal, signed
+from amaranth import Array, Cat, Const, Module, Mux, ResetSignal, Signal, signed
 from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
@@ -10,6 +10,7 @@ from mdfqm_model.contract import ARGMAX_GROUP, argmax_stages, signed_bits
 
 from .arith import greater, greater_equal
 from .params import contract_for, validate_bool, validate_positive, validate_rule
+from .properties import delayed, is_permutation
 from .sort import validate_width
 
 
@@ -85,11 +86,19 @@ class ArgMax(wiring.Component):
     o_index : Out(range(count))
         Position of the first maximum of ``i_values`` ``latency`` clocks earlier.
     o_valid : Out(1)
+
+    Parameters
+    ----------
+    count : int >= 2
+    width : int in [2, 64]
+    formal : bool
+        Emit the properties (``Assert``/``Cover``, no assumption) for the formal tests.
     """
 
-    def __init__(self, count: int, width: int):
+    def __init__(self, count: int, width: int, formal: bool = False):
         validate_positive(count, "count", minimum=2)
         validate_width(width)
+        self.formal = validate_bool(formal, "formal")
         self.count, self.width = count, width
         super().__init__({
             "i_values": In(data.ArrayLayout(signed(width), count)),
@@ -128,7 +137,22 @@ class ArgMax(wiring.Component):
             m.d.sync += next_valid.eq(valid)
             entries, valid = winners, next_valid
         m.d.comb += [self.o_index.eq(entries[0][1]), self.o_valid.eq(valid)]
+        if self.formal:
+            self._properties(m)
         return m
+
+    def _properties(self, m):
+        """sort2's contract, for any input sequence: ``o_index`` is a candidate index in every
+        clock (what the decoder relies on), and a valid one is the first maximum of ``i_values``
+        of ``latency`` clocks earlier."""
+        m.d.comb += Assert(self.o_index < self.count, "sort2's index is not a candidate")
+        values = delayed(m, self.i_values, self.latency, "formal_values")
+        best = Array(values[i] for i in range(self.count))[self.o_index]
+        for i in range(self.count):
+            m.d.comb += Assert(
+                ~self.o_valid | (values[i] < best) | ((values[i] == best) & (self.o_index <= i)),
+                "sort2's index is not the first maximum of its inputs")
+        m.d.comb += Cover(self.o_valid & (self.o_index == self.count - 1))
 
 
 class StateDecoder(wiring.Component):
@@ -158,13 +182,24 @@ class StateDecoder(wiring.Component):
     o_units : Out(ArrayLayout(signed(units_width), phases))
         Feedback of ``o_h`` divided by ``FULL``: ``N h_i - k``, in [-(N-1), N-1].
     o_valid : Out(1)
+
+    Parameters
+    ----------
+    phases : int >= 3
+    formal : bool
+        Emit contract property 6 (``Assert``/``Cover``) for the formal tests.
+    assume_inputs : bool
+        With ``formal``: assume what sort1 and sort2 guarantee (``i_perm`` a permutation,
+        ``i_j < phases``), to prove the block alone. Off inside the core, where those blocks'
+        own assertions prove it in the same run.
     """
 
     latency = 1
 
-    def __init__(self, phases: int, formal: bool = False):
+    def __init__(self, phases: int, formal: bool = False, assume_inputs: bool = True):
         validate_positive(phases, "phases", minimum=3)
         self.formal = validate_bool(formal, "formal")
+        self.assume_inputs = validate_bool(assume_inputs, "assume_inputs")
         self.phases = phases
         self.units_width = signed_bits(-(phases - 1), phases - 1)
         super().__init__({
@@ -206,9 +241,9 @@ class StateDecoder(wiring.Component):
         staircase column j of the permutation, or all-off / all-on for j = 0) and the feedback is
         exactly its phase voltage, for any permutation, winner and previous state."""
         n = self.phases
-        for leg in range(n):     # i_perm is a permutation (sort1 guarantees it)
-            m.d.comb += Assume(Cat(*[self.i_perm[p] == leg for p in range(n)]).any())
-        m.d.comb += Assume(self.i_j < n)    # sort2's winner is a candidate index
+        if self.assume_inputs:      # what sort1 and sort2 assert in every clock
+            m.d.comb += [Assume(is_permutation([self.i_perm[p] for p in range(n)], n)),
+                         Assume(self.i_j < n)]
         perm = Signal(data.ArrayLayout(range(n), n), reset_less=True)
         j = Signal(range(n), reset_less=True)
         started = Signal(reset_less=True)
@@ -226,4 +261,5 @@ class StateDecoder(wiring.Component):
             m.d.comb += Assert(self.o_units[i] == Mux(self.o_h[i], n, 0) - count,
                                "feedback is not the phase voltage of the state")
         # every one of the 2**N gate states is reached (all-on through the zero policy)
-        m.d.comb += [Cover(started & ~rst_prev & (self.o_h == state)) for state in range(1 << n)]
+        m.d.comb += [Cover(self.o_valid & ~rst_prev & (self.o_h == state))
+                     for state in range(1 << n)]

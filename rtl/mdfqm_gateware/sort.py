@@ -1,12 +1,15 @@
 """sort1: the pipelined N-input sorting network."""
 
-from amaranth import C, Cat, Module, Mux, Signal, signed
+from amaranth import Array, C, Cat, Module, Mux, Signal, signed
+from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import sorting_network
 
 from .arith import greater
+from .params import validate_bool
+from .properties import delayed, is_permutation
 
 
 def validate_count(count: int, name: str = "count", minimum: int = 2) -> None:
@@ -40,10 +43,15 @@ class SortNetwork(wiring.Component):
     o_valid : Out(1)
         ``i_valid`` delayed by ``latency`` clocks.
 
+    After a reset the pipeline holds the sort of all-zero values (values 0, the identity
+    permutation), so ``o_index`` is a permutation in every clock.
+
     Parameters
     ----------
     count : int >= 2
     width : int in [2, 64]
+    formal : bool
+        Emit the properties (``Assert``/``Cover``, no assumption) for the formal tests.
 
     Attributes
     ----------
@@ -51,9 +59,10 @@ class SortNetwork(wiring.Component):
         Clocks from input to output: the network's depth (3 for three inputs).
     """
 
-    def __init__(self, count: int, width: int):
+    def __init__(self, count: int, width: int, formal: bool = False):
         validate_count(count)
         validate_width(width)
+        self.formal = validate_bool(formal, "formal")
         self.count = count
         self.width = width
         self.layers = sorting_network(count)
@@ -75,10 +84,12 @@ class SortNetwork(wiring.Component):
         values = [self.i_values[i] for i in range(self.count)]
         index = [C(i, range(self.count)) for i in range(self.count)]
         valid = self.i_valid
+        stages = []         # each layer's registers, for the properties
         for layer_no, layer in enumerate(self.layers):
             next_values = [Signal(signed(self.width), name=f"l{layer_no}_value{i}")
                            for i in range(self.count)]
-            next_index = [Signal(range(self.count), name=f"l{layer_no}_index{i}")
+            # reset to the identity: o_index is a permutation in every clock, even the first
+            next_index = [Signal(range(self.count), init=i, name=f"l{layer_no}_index{i}")
                           for i in range(self.count)]
             touched = set()
             for a, b in layer:
@@ -99,7 +110,34 @@ class SortNetwork(wiring.Component):
             next_valid = Signal(name=f"l{layer_no}_valid")
             m.d.sync += next_valid.eq(valid)
             values, index, valid = next_values, next_index, next_valid
+            stages.append((values, index))
         for i in range(self.count):
             m.d.comb += [self.o_values[i].eq(values[i]), self.o_index[i].eq(index[i])]
         m.d.comb += self.o_valid.eq(valid)
+        if self.formal:
+            self._properties(m, stages)
         return m
+
+    def _properties(self, m, stages):
+        """sort1's contract, for any input sequence: ``o_index`` is a permutation in every clock
+        (what the decoder relies on), and a valid output is ``i_values`` of ``latency`` clocks
+        earlier permuted by ``o_index``, descending, equal values in input order."""
+        n = self.count
+        # Every layer holds a permutation and the inputs of as many clocks earlier, permuted by
+        # it (both inductive layer by layer: the registers and the copies reset together).
+        source = self.i_values
+        for layer_no, (values, index) in enumerate(stages):
+            source = delayed(m, source, 1, f"formal_values_l{layer_no}", reset_less=False)
+            sources = Array(source[i] for i in range(n))
+            m.d.comb += Assert(is_permutation(index, n), "sort1's index is not a permutation")
+            for p in range(n):
+                m.d.comb += Assert(values[p] == sources[index[p]],
+                                   "sort1's values are not its inputs permuted by its index")
+        # sorted once the whole network has been passed (k-induction depth >= latency + 1)
+        for p in range(n - 1):
+            first, second = self.o_values[p], self.o_values[p + 1]
+            m.d.comb += Assert(
+                ~self.o_valid | (first > second)
+                | ((first == second) & (self.o_index[p] < self.o_index[p + 1])),
+                "sort1's output is not descending with ties in input order")
+        m.d.comb += Cover(self.o_valid & (self.o_index[0] == n - 1))

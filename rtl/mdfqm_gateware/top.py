@@ -109,7 +109,7 @@ class MdfqmTop(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         n, c = self.phases, self.contract
-        m.submodules.core = core = MdfqmCore(n, self.width, self.rule)
+        m.submodules.core = core = MdfqmCore(n, self.width, self.rule, formal=self.formal)
         assert core.latency == self.latency
         m.submodules.driver = driver = GateDriver(
             n, self.dead_min, TIME_WIDTH, self.upper_active_low, self.lower_active_low,
