@@ -17,13 +17,21 @@ from pathlib import Path
 from amaranth.back import verilog
 
 from .core import MdfqmCore
+from .generator import GatingSignalGenerator
 from .top import MdfqmTop
+
+#: the generator's finest resolution in the drop-in file: 2**8 slots per update (SVPWM with an
+#: 8-bit duty), or fewer when the width leaves less room
+DROP_IN_MAX_BITS = 8
 
 
 #: (module name, constructor) of every drop-in file `make` writes
 def default_configs(phases: int, width: int):
+    bits = min(DROP_IN_MAX_BITS, width - 2)
     return [
         (f"mdfqm_core_n{phases}_w{width}", lambda: MdfqmCore(phases, width)),
+        (f"mdfqm_generator_n{phases}_w{width}_b{bits}",
+         lambda: GatingSignalGenerator(phases, width, max_bits=bits)),
         (f"mdfqm_top_n{phases}_w{width}", lambda: MdfqmTop(phases, width)),
     ]
 
@@ -72,8 +80,10 @@ def main(argv=None) -> None:
         component = factory()
         path = args.out / f"{name}.v"
         path.write_text(verilog.convert(component, name=name, emit_src=False))
+        long_update = (f", long-update latency {component.long_latency} clocks (max_bits "
+                       f"{component.max_bits})" if hasattr(component, "long_latency") else "")
         print(f"wrote {path}: {component.phases} phases, {component.width}-bit reference, "
-              f"rule {component.rule}, loop latency {component.latency} clocks")
+              f"rule {component.rule}, loop latency {component.latency} clocks{long_update}")
         print("\n".join(port_table(component)))
         if args.lint:
             lint(path)
