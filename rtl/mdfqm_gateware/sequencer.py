@@ -117,7 +117,9 @@ class UpdateSequencer(wiring.Component):
         # adder in front of a comparator. start and tick are registers computed one clock ahead.
         phase = Signal(self.period_width)
         left = Signal(self.period_width)
-        sub = Signal(self.osr_width)
+        # updates since the last sampling start, plus one (the contract's sub + 1): kept
+        # incremented so that the wrap test is one compare, with no adder in front of it
+        sub_p1 = Signal(self.osr_width, init=1)
         start_q, tick_q = Signal(init=1), Signal(init=1)
         m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q)]
 
@@ -132,7 +134,7 @@ class UpdateSequencer(wiring.Component):
                 left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2),
                             left - 1)),
                 start_q.eq(ends),
-                tick_q.eq(ends & (sub == 0)),     # sub only moves in start cycles
+                tick_q.eq(ends & (sub_p1 == 1)),     # it only moves in start cycles
             ]
         else:
             clamped, ends = self._generator_sequence(m, phase)
@@ -140,11 +142,11 @@ class UpdateSequencer(wiring.Component):
             m.d.sync += [
                 phase.eq(Mux(self.start, 1, phase + 1)),
                 start_q.eq(ends),
-                tick_q.eq(ends & (sub == 0)),
+                tick_q.eq(ends & (sub_p1 == 1)),
             ]
         with m.If(self.start):
             m.d.sync += [
-                sub.eq(Mux(sub + 1 >= osr_now, 0, sub + 1)),
+                sub_p1.eq(Mux(sub_p1 >= osr_now, 1, sub_p1 + 1)),
                 self.period_clamped.eq(clamped),
                 self.policy.eq(self.zero_policy),
             ]
