@@ -95,7 +95,7 @@ def test_sby_proves_the_generator_at_the_drop_in_size(phases):
 
 @pytest.mark.parametrize(("phases", "width", "depth"), [
     (3, 8, 24),
-    pytest.param(5, 9, 26, marks=pytest.mark.long_proof),    # 212 s: `make prove-long`
+    pytest.param(5, 9, 26, marks=pytest.mark.long_proof),    # 389 s: `make prove-long`
 ])
 def test_sby_covers_every_mode_of_the_generator(phases, width, depth):
     """With max_bits 2 (a long update fits the bounded run): an update in every mode (mdfqm,
