@@ -1,5 +1,7 @@
 """The MDFQM core: reference stage, integrators, sort1, candidates, sort2, decoder, sequencer."""
 
+from types import SimpleNamespace
+
 from amaranth import Module, signed
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out, connect
@@ -94,47 +96,62 @@ class MdfqmCore(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        n, c = self.phases, self.contract
         m.submodules.sequencer = sequencer = UpdateSequencer(self.latency)
-        m.submodules.reference = reference = ReferenceStage(n, self.width)
-        formal = self.formal
-        m.submodules.integrator = integrator = Integrator(n, self.width, formal=formal,
-                                                          formal_sums=False)
-        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal)
-        m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
-        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width), formal=formal)
-        m.submodules.decoder = decoder = StateDecoder(n, formal=formal, assume_inputs=False)
-        validate_positive(self.latency, "latency", minimum=1 + sort1.latency + 3)
-
-        connect(m, wiring.flipped(self.ref), reference.ref)
+        loop = build_loop(m, self, sequencer, self.width - 2, h_prev=self.h)
+        validate_positive(self.latency, "latency", minimum=1 + loop.sort1.latency + 3)
         m.d.comb += [
-            sequencer.period.eq(self.period),
-            sequencer.osr.eq(self.osr),
-            sequencer.zero_policy.eq(self.zero_policy),
-            sequencer.sync_in.eq(self.sync_in),
-            reference.tick.eq(sequencer.tick),
-            integrator.i_start.eq(sequencer.start),
-            integrator.i_r.eq(reference.r),
-            sort1.i_values.eq(integrator.o_t),
-            candidates.i_rho.eq(sort1.o_values),
-            candidates.i_valid.eq(sort1.o_valid),
-            sort2.i_values.eq(candidates.o_values),
-            sort2.i_valid.eq(candidates.o_valid),
-            # T, and so sort1's outputs, hold still until the next start (period >= latency).
-            decoder.i_perm.eq(sort1.o_index),
-            decoder.i_j.eq(sort2.o_index),
-            decoder.i_policy.eq(sequencer.policy),
-            decoder.i_h_prev.eq(self.h),
-            decoder.i_valid.eq(sort2.o_valid),
-            integrator.i_commit.eq(decoder.o_valid),
-            integrator.i_units.eq(decoder.o_units),
-            self.start.eq(sequencer.start),
-            self.sample.eq(sequencer.tick),
-            self.saturated.eq(integrator.o_saturated),
-            self.period_clamped.eq(sequencer.period_clamped),
+            loop.integrator.i_commit.eq(loop.decoder.o_valid),
+            loop.integrator.i_units.eq(loop.decoder.o_units),
         ]
-        m.d.sync += sort1.i_valid.eq(sequencer.start)
-        m.d.sync += self.update.eq(decoder.o_valid)
-        with m.If(decoder.o_valid):
-            m.d.sync += self.h.eq(decoder.o_h)
+        m.d.sync += self.update.eq(loop.decoder.o_valid)
+        with m.If(loop.decoder.o_valid):
+            m.d.sync += self.h.eq(loop.decoder.o_h)
         return m
+
+
+def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamespace:
+    """The blocks of the MDFQM loop and their wiring, shared by :class:`MdfqmCore` and the
+    gating-signal generator: reference stage, integrators (feedback in units of
+    ``2**unit_shift``), sort1, candidates, sort2, decoder (zero policy against ``h_prev``), fed
+    by ``sequencer`` and ``component``'s ``ref``, ``period``, ``osr``, ``zero_policy``,
+    ``sync_in``; drives its ``start``, ``sample``, ``saturated``, ``period_clamped``. The
+    caller wires the commit (``integrator.i_commit``, ``i_units``) and the outputs ``h`` and
+    ``update``."""
+    n, width, formal = component.phases, component.width, component.formal
+    c = component.contract
+    m.submodules.reference = reference = ReferenceStage(n, width)
+    m.submodules.integrator = integrator = Integrator(n, width, unit_shift=unit_shift,
+                                                      formal=formal, formal_sums=False)
+    m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal)
+    m.submodules.candidates = candidates = Candidates(n, width, component.rule)
+    m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, width), formal=formal)
+    m.submodules.decoder = decoder = StateDecoder(n, formal=formal, assume_inputs=False)
+
+    connect(m, wiring.flipped(component.ref), reference.ref)
+    m.d.comb += [
+        sequencer.period.eq(component.period),
+        sequencer.osr.eq(component.osr),
+        sequencer.zero_policy.eq(component.zero_policy),
+        sequencer.sync_in.eq(component.sync_in),
+        reference.tick.eq(sequencer.tick),
+        integrator.i_start.eq(sequencer.start),
+        integrator.i_r.eq(reference.r),
+        sort1.i_values.eq(integrator.o_t),
+        candidates.i_rho.eq(sort1.o_values),
+        candidates.i_valid.eq(sort1.o_valid),
+        sort2.i_values.eq(candidates.o_values),
+        sort2.i_valid.eq(candidates.o_valid),
+        # T, and so sort1's outputs, hold still until the next start (period >= latency).
+        decoder.i_perm.eq(sort1.o_index),
+        decoder.i_j.eq(sort2.o_index),
+        decoder.i_policy.eq(sequencer.policy),
+        decoder.i_h_prev.eq(h_prev),
+        decoder.i_valid.eq(sort2.o_valid),
+        component.start.eq(sequencer.start),
+        component.sample.eq(sequencer.tick),
+        component.saturated.eq(integrator.o_saturated),
+        component.period_clamped.eq(sequencer.period_clamped),
+    ]
+    m.d.sync += sort1.i_valid.eq(sequencer.start)
+    return SimpleNamespace(reference=reference, integrator=integrator, sort1=sort1,
+                           candidates=candidates, sort2=sort2, decoder=decoder)

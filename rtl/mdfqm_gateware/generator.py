@@ -3,7 +3,7 @@
 from amaranth import Module, Mux, Signal, signed
 from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, stream, wiring
-from amaranth.lib.wiring import In, Out, connect
+from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import (
     BITS_WIDTH,
@@ -14,13 +14,10 @@ from mdfqm_model.contract import (
     validate_max_bits,
 )
 
-from .integrator import Integrator
+from .core import build_loop
 from .params import contract_for, validate_bool, validate_rule
-from .reference import ReferenceStage
 from .resolution import Quantiser, SlotLayout
-from .selector import ArgMax, Candidates, StateDecoder, candidate_width
 from .sequencer import UpdateSequencer
-from .sort import SortNetwork
 
 __all__ = ["GatingSignalGenerator"]
 
@@ -131,50 +128,27 @@ class GatingSignalGenerator(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        n, c, big = self.phases, self.contract, self.max_bits
+        n, big = self.phases, self.max_bits
         m.submodules.sequencer = sequencer = UpdateSequencer(
             self.latency, long_latency=self.long_latency, max_bits=big)
-        m.submodules.reference = reference = ReferenceStage(n, self.width)
-        formal = self.formal
-        m.submodules.integrator = integrator = Integrator(
-            n, self.width, unit_shift=self.width - 2 - big, formal=formal, formal_sums=False)
-        m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal)
-        m.submodules.candidates = candidates = Candidates(n, self.width, self.rule)
-        m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, self.width), formal=formal)
-        m.submodules.decoder = decoder = StateDecoder(n, formal=formal, assume_inputs=False)
+        h_last = Signal(n)          # last state of the last presented update (zero policy)
+        loop = build_loop(m, self, sequencer, self.width - 2 - big, h_prev=h_last)
+        integrator, sort1, candidates = loop.integrator, loop.sort1, loop.candidates
+        sort2, decoder = loop.sort2, loop.decoder
         m.submodules.quantiser = quantiser = Quantiser(n, self.width, big)
         m.submodules.layout = layout = SlotLayout(n, big, len(self.period))
         assert 2 + sort1.latency + quantiser.latency == self.long_latency
         assert 2 + sort1.latency + candidates.latency + sort2.latency + decoder.latency \
             == self.latency
 
-        h_last = Signal(n)          # last state of the last presented update (zero policy)
         slot_len = Signal(len(self.period))
         slot_m2 = Signal(signed(len(self.period) + 1))
         bbit = sequencer.mode_lat != 0
         commit = Mux(sequencer.long, quantiser.o_valid, decoder.o_valid)
 
-        connect(m, wiring.flipped(self.ref), reference.ref)
         m.d.comb += [
-            sequencer.period.eq(self.period),
-            sequencer.osr.eq(self.osr),
-            sequencer.zero_policy.eq(self.zero_policy),
-            sequencer.sync_in.eq(self.sync_in),
             sequencer.mode.eq(self.mode),
             sequencer.bits.eq(self.bits),
-            reference.tick.eq(sequencer.tick),
-            integrator.i_start.eq(sequencer.start),
-            integrator.i_r.eq(reference.r),
-            sort1.i_values.eq(integrator.o_t),
-            candidates.i_rho.eq(sort1.o_values),
-            candidates.i_valid.eq(sort1.o_valid),
-            sort2.i_values.eq(candidates.o_values),
-            sort2.i_valid.eq(candidates.o_valid),
-            decoder.i_perm.eq(sort1.o_index),
-            decoder.i_j.eq(sort2.o_index),
-            decoder.i_policy.eq(sequencer.policy),
-            decoder.i_h_prev.eq(h_last),
-            decoder.i_valid.eq(sort2.o_valid),
             quantiser.i_t.eq(integrator.o_t),
             quantiser.i_max.eq(sort1.o_values[0]),
             quantiser.i_min.eq(sort1.o_values[n - 1]),
@@ -196,14 +170,9 @@ class GatingSignalGenerator(wiring.Component):
             layout.i_delta.eq(quantiser.o_delta),
             layout.i_slot_m2.eq(slot_m2),
             self.h.eq(layout.o_h),
-            self.start.eq(sequencer.start),
-            self.sample.eq(sequencer.tick),
-            self.saturated.eq(integrator.o_saturated),
-            self.period_clamped.eq(sequencer.period_clamped),
             self.mode_clamped.eq(sequencer.mode_clamped),
         ]
         m.d.sync += [
-            sort1.i_valid.eq(sequencer.start),
             self.update.eq(commit),
             # slot length of the update in flight: P and b are still from its start on
             slot_len.eq(sequencer.p_lat >> sequencer.bits_lat),
@@ -211,7 +180,7 @@ class GatingSignalGenerator(wiring.Component):
         ]
         with m.If(commit):
             m.d.sync += h_last.eq(Mux(bbit, quantiser.o_last, decoder.o_h))
-        if formal:
+        if self.formal:
             self._properties(m, sequencer, commit)
         return m
 
