@@ -126,7 +126,6 @@ class UpdateSequencer(wiring.Component):
         if self.long_latency is None:
             clamped = self.period < self.latency
             restart = self.sync_in & (phase >= self.latency - 1)
-            osr_now = Mux(self.osr == 0, 1, self.osr)
             # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
             ends = ~self.start & (restart | (left == 0))
             m.d.sync += [
@@ -138,12 +137,12 @@ class UpdateSequencer(wiring.Component):
             ]
         else:
             clamped, ends = self._generator_sequence(m, phase)
-            osr_now = Mux(self.osr == 0, 1, self.osr)
             m.d.sync += [
                 phase.eq(Mux(self.start, 1, phase + 1)),
                 start_q.eq(ends),
                 tick_q.eq(ends & (sub_p1 == 1)),
             ]
+        osr_now = Mux(self.osr == 0, 1, self.osr)
         with m.If(self.start):
             m.d.sync += [
                 sub_p1.eq(Mux(sub_p1 >= osr_now, 1, sub_p1 + 1)),
