@@ -22,7 +22,7 @@ Scenarios:
 import math
 
 import core_stimulus
-from core_stimulus import linear_amplitude, sine_codes
+from core_stimulus import extreme_codes, linear_amplitude, sine_codes
 from harness import pack
 from mdfqm_model.clock import GeneratorModel
 from mdfqm_model.contract import MODES, min_period
@@ -101,8 +101,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
         if offered is None and rng.random() < 0.7:    # idle gaps between beats
             angle += step
             if scenario == "extremes":
-                offered = [rng.choice([contract.code_min, contract.code_max, 0, -1, 1])
-                           for _ in range(n)]
+                offered = extreme_codes(rng, contract, n)
             else:
                 offered = sine_codes(contract, amplitude, angle, offset)
         sync_in = int(scenario == "switch" and rng.random() < 0.02)

@@ -29,6 +29,11 @@ def sine_codes(contract, amplitude, angle, offset=0):
     return codes
 
 
+def extreme_codes(rng, contract, phases):
+    """A beat of the codes at and around the ends and the middle of the range."""
+    return [rng.choice([contract.code_min, contract.code_max, 0, -1, 1]) for _ in range(phases)]
+
+
 def linear_amplitude(phases):
     """Largest sine amplitude (Vdc) inside the linear range max(v) - min(v) <= 1."""
     spread = max(math.cos(2 * math.pi * i / phases) for i in range(phases)) - min(
@@ -71,8 +76,7 @@ def generate(rng, scenario, contract, rule, cycles):
         if offered is None and rng.random() < 0.7:       # idle gaps between beats
             angle += step
             if scenario == "extremes":
-                offered = [rng.choice([contract.code_min, contract.code_max, 0, -1, 1])
-                           for _ in range(n)]
+                offered = extreme_codes(rng, contract, n)
             elif scenario == "ties":
                 level = rng.randint(contract.code_min, contract.code_max)
                 offered = [rng.choice([level, -level // 2, 0]) for _ in range(n)]

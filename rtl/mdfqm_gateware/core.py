@@ -80,19 +80,7 @@ class MdfqmCore(wiring.Component):
         self.formal = validate_bool(formal, "formal")
         self.phases, self.width = phases, width
         self.latency = loop_latency(phases, rule)
-        super().__init__({
-            "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
-            "period": In(16),
-            "osr": In(8),
-            "zero_policy": In(1),
-            "sync_in": In(1),
-            "h": Out(phases),
-            "update": Out(1),
-            "start": Out(1),
-            "sample": Out(1),
-            "saturated": Out(1),
-            "period_clamped": Out(1),
-        })
+        super().__init__(loop_ports(phases, width))
 
     def elaborate(self, platform):
         m = Module()
@@ -107,6 +95,26 @@ class MdfqmCore(wiring.Component):
         with m.If(loop.decoder.o_valid):
             m.d.sync += self.h.eq(loop.decoder.o_h)
         return m
+
+
+def loop_ports(phases: int, width: int, extra_inputs=None, extra_outputs=None) -> dict:
+    """The ports of :class:`MdfqmCore` (documented there), with a wider component's own inputs
+    and outputs placed after the core's."""
+    return {
+        "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
+        "period": In(16),
+        "osr": In(8),
+        "zero_policy": In(1),
+        "sync_in": In(1),
+        **(extra_inputs or {}),
+        "h": Out(phases),
+        "update": Out(1),
+        "start": Out(1),
+        "sample": Out(1),
+        "saturated": Out(1),
+        "period_clamped": Out(1),
+        **(extra_outputs or {}),
+    }
 
 
 def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamespace:

@@ -2,7 +2,7 @@
 
 from amaranth import Module, Mux, Signal, signed
 from amaranth.hdl import Assert, Cover
-from amaranth.lib import data, stream, wiring
+from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_model.contract import (
@@ -14,7 +14,7 @@ from mdfqm_model.contract import (
     validate_max_bits,
 )
 
-from .core import build_loop
+from .core import build_loop, loop_ports
 from .params import contract_for, validate_bool, validate_rule
 from .resolution import Quantiser, SlotLayout
 from .sequencer import UpdateSequencer
@@ -109,22 +109,10 @@ class GatingSignalGenerator(wiring.Component):
         self.phases, self.width = phases, width
         self.latency = loop_latency(phases, rule)
         self.long_latency = resolution_latency(phases, max_bits)
-        super().__init__({
-            "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
-            "period": In(16),
-            "osr": In(8),
-            "zero_policy": In(1),
-            "sync_in": In(1),
-            "mode": In(MODE_WIDTH),
-            "bits": In(BITS_WIDTH),
-            "h": Out(phases),
-            "update": Out(1),
-            "start": Out(1),
-            "sample": Out(1),
-            "saturated": Out(1),
-            "period_clamped": Out(1),
-            "mode_clamped": Out(1),
-        })
+        super().__init__(loop_ports(
+            phases, width,
+            extra_inputs={"mode": In(MODE_WIDTH), "bits": In(BITS_WIDTH)},
+            extra_outputs={"mode_clamped": Out(1)}))
 
     def elaborate(self, platform):
         m = Module()
