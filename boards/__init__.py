@@ -1,9 +1,9 @@
 """Board tops of the MDFQM demo: one sub-folder per board (pins, clocking, demo top).
 
     python -m boards.build --board icebreaker      # bitstream into build/boards/icebreaker/
-    python -m boards.report                        # resource / Fmax table of every board
+    python -m tools.board_report                   # resource / Fmax table of every board
 
-The shared demo design is :mod:`mdfqm_gateware.demo`; :mod:`boards.common` is the glue.
+The shared demo design is :mod:`demo`; :mod:`boards.common` is the glue.
 """
 
 from __future__ import annotations

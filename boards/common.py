@@ -1,5 +1,5 @@
 """What the board tops share: PLL primitives, the power-on reset, and the glue that puts
-:class:`mdfqm_gateware.demo.design.DemoDesign` between a board's resources.
+:class:`demo.design.DemoDesign` between a board's resources.
 
 A board folder (``boards/<board>/top.py``) declares only its pins, its clocking and its
 button/LED choices as a :class:`Board`; :class:`DemoTop` does the rest.
@@ -14,7 +14,7 @@ from amaranth.build import Attrs, Pins, PinsN, Resource, Subsignal
 from amaranth.lib import io
 from amaranth.lib.cdc import ResetSynchronizer
 
-from mdfqm_gateware.demo.design import DemoConfig, DemoDesign
+from demo.design import DemoConfig, DemoDesign
 
 __all__ = ["Board", "DemoTop", "Ecp5Pll", "Ice40Pll", "demo_resources"]
 

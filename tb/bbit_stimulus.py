@@ -25,7 +25,7 @@ import core_stimulus
 from core_stimulus import extreme_codes, linear_amplitude, sine_codes
 from harness import pack
 from mdfqm_model.clock import GeneratorModel
-from mdfqm_model.contract import MODES, min_period
+from mdfqm_spec.contract import MODES, min_period
 
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped"}

@@ -18,7 +18,7 @@ def line_bits(byte: int, divider: int, stop: int = 1) -> list[int]:
 
 
 class UartTxModel:
-    """:class:`mdfqm_gateware.demo.uart.UartTx`: ``step(valid, payload)``."""
+    """:class:`demo.uart.UartTx`: ``step(valid, payload)``."""
 
     def __init__(self, divider: int):
         self.divider = divider
@@ -44,7 +44,7 @@ class UartTxModel:
 
 
 class UartRxModel:
-    """:class:`mdfqm_gateware.demo.uart.UartRx`: ``step(rx, ready)``."""
+    """:class:`demo.uart.UartRx`: ``step(rx, ready)``."""
 
     def __init__(self, divider: int):
         self.divider = divider
@@ -94,7 +94,7 @@ class UartRxModel:
 
 
 class BridgeModel:
-    """:class:`mdfqm_gateware.demo.bridge.UartBridge`:
+    """:class:`demo.bridge.UartBridge`:
     ``step(rx_valid, rx_payload, tx_ready, ack, dat_r)``."""
 
     W, R, E, T = ord("W"), ord("R"), ord("E"), ord("T")
@@ -181,15 +181,15 @@ def _mask(width: int) -> int:
 
 
 class RegisterBankModel:
-    """:class:`mdfqm_gateware.demo.registers.RegisterBank`: ``step(cyc, stb, we, adr, dat_w,
+    """:class:`demo.register_bank.RegisterBank`: ``step(cyc, stb, we, adr, dat_w,
     ro=..., sets=...)``; ``ro`` maps read-only names to this cycle's values, ``sets`` maps
     settable names to ``(set, value)``."""
 
     def __init__(self, window, init=None):
         self.window = window
         self.values = {r.name: (init or {}).get(r.name, 0) for r in window.regs
-                       if r.access == "rw"}
-        self.strobes = {r.name: 0 for r in window.regs if r.access == "strobe"}
+                       if r.access == "RW"}
+        self.strobes = {r.name: 0 for r in window.regs if r.access == "W"}
         self.ack, self.dat_r = 0, 0
 
     def outputs(self) -> dict:
@@ -204,17 +204,17 @@ class RegisterBankModel:
         written = None
         if request:
             reg = next((r for r in self.window.regs if r.offset == adr), None)
-            if reg is None or reg.access == "strobe":
+            if reg is None or reg.access == "W":
                 self.dat_r = 0
-            elif reg.access == "rw":
+            elif reg.access == "RW":
                 self.dat_r = out[reg.name]
             else:
                 self.dat_r = ro[reg.name] & _mask(reg.width)
             if reg is not None and we:
-                if reg.access == "rw":
+                if reg.access == "RW":
                     self.values[reg.name] = dat_w & _mask(reg.width)
                     written = reg.name
-                elif reg.access == "strobe":
+                elif reg.access == "W":
                     self.strobes[reg.name] = 1
         for name, (go, value) in sets.items():
             if go and name != written:
@@ -224,7 +224,7 @@ class RegisterBankModel:
 
 
 class ButtonsModel:
-    """:class:`mdfqm_gateware.demo.buttons.Buttons`: ``step(raw)``."""
+    """:class:`demo.buttons.Buttons`: ``step(raw)``."""
 
     def __init__(self, count: int, debounce: int):
         self.debounce = debounce
@@ -247,7 +247,7 @@ class ButtonsModel:
 
 
 class ArbiterModel:
-    """:class:`mdfqm_gateware.demo.arbiter.WishboneArbiter`: ``step(m0_cyc, m1_cyc)``."""
+    """:class:`demo.arbiter.WishboneArbiter`: ``step(m0_cyc, m1_cyc)``."""
 
     def __init__(self):
         self.owner = 0
@@ -263,7 +263,7 @@ class ArbiterModel:
 
 
 class SequencerModel:
-    """:class:`mdfqm_gateware.demo.sequencer.BusSequencer`:
+    """:class:`demo.bus_master.BusSequencer`:
     ``step(ack, dat_r, enable_toggle, fault_clear)``."""
 
     def __init__(self, init, ctrl_addr, enable_mask, clear_addr, clear_value):
@@ -312,7 +312,7 @@ class SequencerModel:
 
 
 class DemoModel:
-    """:class:`mdfqm_gateware.demo.design.DemoDesign`: ``step(uart_rx, buttons, fault_in)``
+    """:class:`demo.design.DemoDesign`: ``step(uart_rx, buttons, fault_in)``
     returns the pins of this cycle, then advances every block one clock.
 
     Every signal between blocks is registered or combinational from registers (the decoder and
@@ -320,10 +320,10 @@ class DemoModel:
     taken first and then every block steps."""
 
     def __init__(self, config):
-        from mdfqm_gateware.demo.regmap import DEMO_ID, TOP_BASE, demo_window
-        from mdfqm_model import top as top_map
         from mdfqm_model.nco import NcoModel
         from mdfqm_model.top import TopModel
+        from mdfqm_spec import regmap as top_map
+        from mdfqm_spec.regmap import ID_VALUE, TOP_BASE, demo_window
 
         c = self.config = config
         self.n = n = c.phases
@@ -342,7 +342,7 @@ class DemoModel:
         self.snap_cycles, self.snap = 0, [0] * n
         self.upper_prev = self.lower_prev = 0
         self.led_active = 0
-        self.constants = {"ID": DEMO_ID, "INFO": c.info, "CLK_HZ": c.clk_hz}
+        self.constants = {"ID": ID_VALUE, "INFO": c.info, "CLK_HZ": c.clk_hz}
 
     def pins(self) -> dict:
         d = self.top.driver.outputs()

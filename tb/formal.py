@@ -1,6 +1,7 @@
 """SymbiYosys runner shared by the formal tests: the properties live beside the RTL (Amaranth
 ``Assert`` / ``Assume`` / ``Cover`` emitted with ``formal=True``); this proves them by
-k-induction, reaches every cover, and runs the deliberately broken variants."""
+k-induction, reaches every cover, and runs the deliberately broken variants. Also the broken
+designs shared by the SymbiYosys tests (tb/test_formal.py) and the simulation tests."""
 
 import os
 import shutil
@@ -10,6 +11,7 @@ from pathlib import Path
 from amaranth.back import rtlil
 
 from harness import ROOT
+from mdfqm_gateware.driver import LegDriver
 
 
 def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=True,
@@ -55,3 +57,13 @@ def assertion_site(path, message: str) -> str:
     while "Assert(" not in lines[number - 1]:     # the statement starts where Assert( is
         number -= 1
     return f"{Path(path).name}:{number}"
+
+
+class NoDeadTimeLeg(LegDriver):
+    """A broken leg that follows its command at once: its properties must fire (in Amaranth's
+    simulator, tb/test_driver.py, and in the SymbiYosys run, tb/test_formal.py)."""
+
+    def elaborate(self, platform):
+        m = super().elaborate(platform)
+        m.d.sync += [self.upper.eq(self.drive & self.cmd), self.lower.eq(self.drive & ~self.cmd)]
+        return m

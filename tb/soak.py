@@ -15,7 +15,7 @@ import time
 
 from core_stimulus import SCENARIOS, generate
 from mdfqm_gateware.core import MdfqmCore
-from mdfqm_model.contract import Contract
+from mdfqm_spec.contract import Contract
 from vectors import VectorBench
 
 CONFIGS = ((3, 16, "largest_duty"), (5, 16, "exact_nearest"))

@@ -15,7 +15,7 @@ from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.integrator import Integrator
 from mdfqm_gateware.resolution import Quantiser, SlotLayout
 from mdfqm_gateware.sequencer import UpdateSequencer
-from mdfqm_model.contract import Contract, loop_latency, resolution_latency
+from mdfqm_spec.contract import Contract, loop_latency, resolution_latency
 
 CASES = [(3, 16, "largest_duty", 8), (5, 16, "exact_nearest", 6)]
 
@@ -189,10 +189,10 @@ def test_core_blocks_unchanged_by_default():
 @pytest.mark.parametrize("args", [(3, 16, "largest_duty", 8), (5, 16, "exact_nearest", 6),
                                   (4, 10, "largest_duty", 8), (9, 16, "exact_nearest", 12)])
 def test_bbit_verilog_is_lint_clean(args, tmp_path):
-    """verilator --lint-only -Wall with the project's waivers (mdfqm_gateware.generate.lint)."""
+    """verilator --lint-only -Wall with the project's waivers (mdfqm_gateware.dropin.lint)."""
     from amaranth.back import verilog
 
-    from mdfqm_gateware.generate import lint
+    from mdfqm_gateware.dropin import lint
 
     path = tmp_path / "gating_signal_generator.v"
     path.write_text(verilog.convert(GatingSignalGenerator(*args), name=path.stem,

@@ -10,7 +10,7 @@ import pytest
 
 from bbit_stimulus import SCENARIOS, generate
 from mdfqm_gateware.generator import GatingSignalGenerator
-from mdfqm_model.contract import Contract
+from mdfqm_spec.contract import Contract
 from vectors import VectorBench
 
 

@@ -14,8 +14,9 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 import boards  # noqa: E402
 from boards import build as board_build  # noqa: E402
-from boards import constraints, report  # noqa: E402
+from boards import constraints  # noqa: E402
 from boards.common import Ecp5Pll, Ice40Pll  # noqa: E402
+from tools import board_report as report  # noqa: E402
 
 
 def test_constraint_files_are_current():
@@ -123,7 +124,7 @@ def test_unknown_board():
 
 
 def test_docs_list_every_demo_register():
-    from mdfqm_gateware.demo.regmap import DEMO
+    from mdfqm_spec.regmap import DEMO
 
     text = (ROOT / "docs" / "boards.md").read_text()
     for reg in DEMO.regs:

@@ -1,7 +1,7 @@
 # amaranth: UnusedElaboratable=no
 """UART -> Wishbone bridge on its byte streams, every output on every clock, against
 tb/demo_models.py: BridgeModel, with a Wishbone slave with random wait states and an unmapped
-range, and a host that follows (and breaks) mdfqm_gateware.host.protocol."""
+range, and a host that follows (and breaks) mdfqm_spec.bridge."""
 
 import cocotb
 import pytest
@@ -9,15 +9,15 @@ from amaranth import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out, connect
 
+from demo.arbiter import WishboneArbiter
+from demo.bridge import UartBridge
+from demo.bus_master import BusSequencer
+from demo.register_bank import RegisterBank
+from demo.wishbone import WishboneDecoder, WishboneSignature
 from demo_models import ArbiterModel, BridgeModel, SequencerModel
 from harness import check_cycles, params, run_block, seeded_rng, start
-from mdfqm_gateware.demo.arbiter import WishboneArbiter
-from mdfqm_gateware.demo.bridge import UartBridge
-from mdfqm_gateware.demo.registers import RegisterBank
-from mdfqm_gateware.demo.regmap import DEMO
-from mdfqm_gateware.demo.sequencer import BusSequencer
-from mdfqm_gateware.demo.wishbone import WishboneDecoder, WishboneSignature
-from mdfqm_gateware.host import protocol as proto
+from mdfqm_spec import bridge as proto
+from mdfqm_spec.regmap import DEMO
 
 CASES = [(16, 5, 40), (16, 64, 300), (8, 3, 25)]
 OUTPUTS = {"rx__ready": "rx_ready", "tx__valid": "tx_valid", "tx__payload": "tx_payload",
@@ -190,9 +190,9 @@ def test_bridge_rejects_bad_parameters(kwargs, message):
      "windows['a'] width must be an integer in [1, 8], not 9"),
     (lambda: WishboneDecoder(16, {"a": (0, 6), "b": (0x20, 4)}),
      "windows['b'] at 0x0020 (16 words) overlaps windows['a'] at 0x0000"),
-    (lambda: RegisterBank(DEMO, init={"ID": 1}), "'ID' is not a rw register of the demo window"),
+    (lambda: RegisterBank(DEMO, init={"ID": 1}), "'ID' is not an RW register of the demo window"),
     (lambda: RegisterBank(DEMO, settable=("NOPE",)),
-     "'NOPE' is not a rw register of the demo window"),
+     "'NOPE' is not an RW register of the demo window"),
     (lambda: RegisterBank(DEMO, init={"NCO_AMP": 1 << 15}),
      "init['NCO_AMP'] must fit in 15 bits, not 32768"),
     (lambda: BusSequencer(16, [(0x10000, 0)], 3, 1, 4, 2),

@@ -8,7 +8,7 @@ import pytest
 
 from core_stimulus import SCENARIOS, generate
 from mdfqm_gateware.core import MdfqmCore
-from mdfqm_model.contract import Contract
+from mdfqm_spec.contract import Contract
 from vectors import VectorBench
 
 

@@ -17,12 +17,12 @@ from pathlib import Path
 import cocotb
 import pytest
 
+from demo.design import DemoConfig, DemoDesign
 from demo_models import DemoModel, line_bits
 from harness import check_cycles, params, run_block, seeded_rng, start
-from mdfqm_gateware.demo.design import DemoConfig, DemoDesign
-from mdfqm_gateware.demo.regmap import DEMO_ID, TOP_BASE, demo_window
-from mdfqm_gateware.host import protocol as proto
-from mdfqm_model import top as top_map
+from mdfqm_spec import bridge as proto
+from mdfqm_spec import regmap as top_map
+from mdfqm_spec.regmap import ID_VALUE, TOP_BASE, demo_window
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
@@ -82,7 +82,7 @@ def host_script(config, rng):
            ("ID", "CTRL", "CMD", "STATUS", "PERIOD", "DEAD", "MIN_PULSE", "EVENTS_BASE")}
 
     # identification, and the settings the sequencer wrote after reset
-    assert (yield from read(demo.addr("ID"))) == DEMO_ID
+    assert (yield from read(demo.addr("ID"))) == ID_VALUE
     assert (yield from read(demo.addr("INFO"))) == config.info
     assert (yield from read(demo.addr("CLK_HZ"))) == config.clk_hz
     assert (yield from read(top["ID"])) == top_map.ID_VALUE
@@ -252,7 +252,7 @@ def test_demo_config_rejects_bad_parameters(kwargs, message):
     ({"count": 2, "debounce": 0}, "debounce must be an integer in [1, 16777216], not 0"),
 ])
 def test_buttons_reject_bad_parameters(kwargs, message):
-    from mdfqm_gateware.demo.buttons import Buttons
+    from demo.buttons import Buttons
 
     with pytest.raises(ValueError) as info:
         Buttons(**kwargs)

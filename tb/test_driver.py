@@ -1,7 +1,8 @@
 # amaranth: UnusedElaboratable=no
 """GateDriver (N legs, dead time, minimum pulse, enable, fault, polarity), every output on every
 clock, against mdfqm_model.driver.GateDriverModel; the safety properties checked on the same
-trace; and the formal properties (``formal=True``) exercised in Amaranth's simulator."""
+trace; and the formal properties (``formal=True``) exercised in Amaranth's simulator (their
+SymbiYosys proofs are in tb/test_formal.py)."""
 
 import cocotb
 import numpy as np
@@ -9,6 +10,7 @@ import pytest
 from amaranth import ClockDomain, Module
 from amaranth.sim import Simulator
 
+from formal import NoDeadTimeLeg
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.driver import GateDriver, LegDriver
 from mdfqm_model.driver import DRIVER_OUTPUTS, GateDriverModel, check_gate_safety
@@ -234,15 +236,6 @@ def test_formal_properties_hold_in_simulation(phases):
     simulate_properties(GateDriver(phases, 2, 6, formal=True), phases, 2, 6, phases, 2500)
 
 
-class NoDeadTimeLeg(LegDriver):
-    """A broken leg that follows its command at once: its properties must fire."""
-
-    def elaborate(self, platform):
-        m = super().elaborate(platform)
-        m.d.sync += [self.upper.eq(self.drive & self.cmd), self.lower.eq(self.drive & ~self.cmd)]
-        return m
-
-
 def test_formal_properties_catch_a_missing_dead_time(monkeypatch):
     import mdfqm_gateware.driver as driver
 
@@ -285,25 +278,3 @@ def test_leg_rejects_bad_parameters(kwargs, message):
         LegDriver(**kwargs)
     assert str(info.value) == message
 
-
-# ---------------------------------------------------------------------- SymbiYosys
-
-from formal import run_sby  # noqa: E402  (shared by the formal tests)
-
-
-@pytest.mark.parametrize(("name", "factory", "depth", "tasks"), [
-    # the drop-in widths (a cover of a 64-clock dead time would need a deeper cover run)
-    ("leg_dmin64_tw16", lambda: LegDriver(64, 16, formal=True), 24, ("prove",)),
-    ("leg_dmin3_tw4", lambda: LegDriver(3, 4, formal=True), 24, ("prove", "cover")),
-    ("gate_driver_n3_dmin5_tw16", lambda: GateDriver(3, 5, 16, True, False, formal=True), 20,
-     ("prove", "cover")),
-])
-def test_sby_proves_the_driver_properties(name, factory, depth, tasks):
-    run_sby(factory(), name, depth, tasks)
-
-
-def test_sby_finds_the_missing_dead_time():
-    """The proof is not vacuous: the broken leg fails it."""
-    with pytest.raises(AssertionError, match="BMC failed"):
-        run_sby(NoDeadTimeLeg(3, 4, formal=True), "leg_broken", 12, tasks=("bmc",),
-                keep_failed=False)

@@ -8,12 +8,12 @@ from types import SimpleNamespace
 import pytest
 
 from demo_models import BridgeModel
-from mdfqm_gateware.demo.regmap import DEMO_ID, demo_window
-from mdfqm_gateware.host import protocol as proto
-from mdfqm_gateware.host.cli import find_ports, main
-from mdfqm_gateware.host.client import BusError, Client, NoReplyError
-from mdfqm_gateware.host.device import TOP_MAP, Counters, DemoDevice, linear_limit
-from mdfqm_gateware.host.simdevice import SimulatedDevice
+from mdfqm_host.cli import find_ports, main
+from mdfqm_host.client import BusError, Client, NoReplyError
+from mdfqm_host.device import TOP_MAP, Counters, DemoDevice, linear_limit
+from mdfqm_host.simdevice import SimulatedDevice
+from mdfqm_spec import bridge as proto
+from mdfqm_spec.regmap import ID_VALUE, demo_window
 
 DEMO = demo_window(3, 16, 32)
 
@@ -78,7 +78,7 @@ def test_encode_rejects(call, message):
 
 def test_client_reads_and_writes():
     _, _, client = device()
-    assert client.read(DEMO.addr("ID")) == DEMO_ID
+    assert client.read(DEMO.addr("ID")) == ID_VALUE
     client.write(DEMO.addr("NCO_FREQ"), 0x12345678)
     assert client.read(DEMO.addr("NCO_FREQ")) == 0x12345678
     assert client.stats == {"requests": 3, "retries": 0}
@@ -116,7 +116,7 @@ def test_client_reports_unmapped_addresses():
 def test_garbage_and_partial_frames_are_dropped():
     dev, clock, client = device()
     dev.write(b"\x00\xffhello")                  # no 'W'/'R': ignored
-    assert client.read(DEMO.addr("ID")) == DEMO_ID
+    assert client.read(DEMO.addr("ID")) == ID_VALUE
     dev.write(proto.encode_write(DEMO.addr("NCO_AMP"), 7)[:5])   # a write cut short...
     clock.sleep(0.01)                            # ...then silence: dropped
     assert client.read(DEMO.addr("NCO_AMP")) != 7
@@ -205,7 +205,7 @@ def test_cli_commands(capsys):
     code, out = run_cli(capsys, "monitor", "--count", "2", "--interval", "0")
     assert code == 0 and len(out.splitlines()) == 3 and "f_sw leg 0" in out
     code, out = run_cli(capsys, "read", "ID")
-    assert out == f"0x0100: {DEMO_ID:#010x}\n"
+    assert out == f"0x0100: {ID_VALUE:#010x}\n"
     code, out = run_cli(capsys, "write", "0x104", "0x1000")
     assert out == "0x0104 <- 0x00001000\n"
     assert main(["--port", "sim://", "read", "dead_min"]) == 0

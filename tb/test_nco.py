@@ -5,8 +5,8 @@ mdfqm_model.nco.NcoModel; quarter and full tables, runtime frequency/amplitude, 
 import cocotb
 import pytest
 
+from demo.nco import SineNco
 from harness import check_cycles, params, run_block, seeded_rng, start, unpack
-from mdfqm_gateware.demo.nco import SineNco
 from mdfqm_model.nco import NcoModel
 
 # phases, width, acc_bits, table_bits, sample_width, quarter

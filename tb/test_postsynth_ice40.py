@@ -17,7 +17,7 @@ from pathlib import Path
 from core_stimulus import SCENARIOS, generate
 from harness import ROOT, verilator_build_env, write_verilog
 from mdfqm_gateware.core import MdfqmCore
-from mdfqm_model.contract import Contract
+from mdfqm_spec.contract import Contract
 from vectors import MAIN_CPP, VectorBench, ports_of
 from vectors import testbench as vector_testbench
 

@@ -2,7 +2,8 @@
 """The drop-in top (core + gate driver + Wishbone registers + counters + ADC trigger), every
 output on every clock, against mdfqm_model.top.TopModel; independent checks of the safety
 properties, the switching counters and the ADC trigger on the same traces; two instances sharing
-update boundaries through sync_out -> sync_in."""
+update boundaries through sync_out -> sync_in. The top's SymbiYosys proofs and covers are in
+tb/test_formal.py."""
 
 import math
 from collections import deque
@@ -10,17 +11,15 @@ from collections import deque
 import cocotb
 import numpy as np
 import pytest
-from amaranth import Module, Value
+from amaranth import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from harness import check_cycles, pack, params, run_block, seeded_rng, start
-from mdfqm_gateware.core import MdfqmCore
 from mdfqm_gateware.top import MdfqmTop
-from mdfqm_model import top as regs
-from mdfqm_model.contract import sorting_network
 from mdfqm_model.driver import check_gate_safety
 from mdfqm_model.top import TopModel
+from mdfqm_spec import regmap as regs
 
 # (phases, width, rule, dead_min, upper_active_low, lower_active_low)
 CASES = [(3, 16, "largest_duty", 3, False, False), (5, 16, "exact_nearest", 5, True, True)]
@@ -488,58 +487,6 @@ def test_top_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:
         MdfqmTop(**kwargs)
     assert str(info.value) == message
-
-
-class FreeCore(wiring.Component):
-    """A core whose every output is chosen freely by the solver in every clock (``AnySeq``):
-    proving the top's properties over it proves them for any core behaviour."""
-
-    def __init__(self, phases, width, rule, formal=False):
-        reference = MdfqmCore(phases, width, rule)
-        self.latency = reference.latency
-        super().__init__(reference.signature)
-
-    def elaborate(self, platform):
-        from amaranth.hdl._ast import AnySeq  # not re-exported by amaranth.hdl in 0.5
-
-        m = Module()
-        for _path, member, value in self.signature.flatten(self):
-            if member.flow == Out:
-                m.d.comb += value.eq(AnySeq(len(Value.cast(value))))
-        return m
-
-
-# The whole top's bounded cover run (24 clocks) cannot drive an integrator into saturation,
-# which takes many overmodulated updates; that cover is reached in the integrator's own run
-# (tb/test_formal.py) and in the generator's.
-SATURATION_COVER_OUT_OF_DEPTH = ("cd dut.core.integrator", "delete r:FLAVOR=cover", "cd")
-
-
-@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks"), [
-    ("free", 3, 64, ("prove",)), ("free", 5, 64, ("prove",)), ("free", 3, 2, ("prove", "cover")),
-    ("real", 3, 64, ("prove",)), ("real", 5, 64, ("prove",)), ("real", 3, 2, ("cover",)),
-    pytest.param("real", 5, 2, ("cover",), marks=pytest.mark.long_proof)])    # 176 s
-def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, monkeypatch):
-    """k-induction over the whole top at the drop-in size (N = 3 and N = 5), with the real core
-    and with a free one (any ``h``, ``update``, ``start``, stream ``ready`` in any clock: the
-    driver's properties hold for any core behaviour). With the real core the run also proves
-    the core's properties in place, none of them assumed: the integrators never wrap, sort1 is a
-    stable descending sort, sort2 picks the first maximum, the state is a candidate and the
-    feedback its voltage. Depth: sort1's latency + 2, so a sorted output has passed the whole
-    network inside the induction window. The free cover run reaches gates switching after an
-    enable through the bus, a fault cleared through the bus, both switches of every leg turning
-    on; the real one also every gate state as an update's result (both zero states through the
-    zero policy; at N = 5 all-on needs a second update, 34 clocks: `make prove-long`)."""
-    import mdfqm_gateware.top as top_module
-    from formal import run_sby
-
-    if core == "free":
-        monkeypatch.setattr(top_module, "MdfqmCore", FreeCore)
-    cover_depth = {"free": 14, "real": 24 if phases == 3 else 34}[core]
-    depth = {"prove": len(sorting_network(phases)) + 2, "cover": cover_depth}
-    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, formal=True),
-            f"top_{core}_n{phases}_dmin{dead_min}", depth, tasks,
-            mutation=SATURATION_COVER_OUT_OF_DEPTH if core == "real" else ())
 
 
 def test_top_formal_build_differs_only_by_properties():

@@ -7,9 +7,9 @@ from amaranth import Module
 from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out, connect
 
+from demo.uart import UartRx, UartTx, uart_divider
 from demo_models import UartRxModel, UartTxModel
 from harness import check_cycles, params, run_block, seeded_rng, start
-from mdfqm_gateware.demo.uart import UartRx, UartTx, uart_divider
 
 #: edge cases, and the smallest and largest of the boards' dividers at 115200 baud (16.5 MHz:
 #: 143, 36 MHz: 313, 48 MHz: 417, 50 MHz: 434); the counters differ only in width

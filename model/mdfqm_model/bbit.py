@@ -6,7 +6,7 @@ MDFQM. SVPWM (gamma = 1/2, centred) and DPWM (gamma = 0 / 1, or a sector-depende
 settings of this one generator; MDFQM is its ``b = 0`` end (one state per update, handled by
 :func:`mdfqm_model.update.mdfqm_update`).
 
-Fixed-point contract (extends :mod:`mdfqm_model.contract`; all quantities exact integers)
+Fixed-point contract (extends :mod:`mdfqm_spec.contract`; all quantities exact integers)
 ------------------------------------------------------------------------------------------
 - Same input format and N-scaled domain as the core: ``R_i = N c_i - sum(c)``, ``T = X + R``,
   one Vdc = ``NF = N FULL``; sort1 by the key ``(-T_i, i)`` gives ``rho``, ``perm``.
@@ -33,7 +33,7 @@ Fixed-point contract (extends :mod:`mdfqm_model.contract`; all quantities exact 
   than one quantum ``1/S`` Vdc).
 
 The gateware (``GatingSignalGenerator``) computes exactly this, per leg and without the
-permutation, through the identities stated in :mod:`mdfqm_model.contract` (section "b-bit
+permutation, through the identities stated in :mod:`mdfqm_spec.contract` (section "b-bit
 pulse-width resolution") and checked in ``model/tests/test_bbit_hardware.py``; its clock-level
 model is :class:`mdfqm_model.clock.GeneratorModel`, which calls :func:`bbit_update`.
 
@@ -51,7 +51,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contract import ALL_OFF, MODES, Contract
+from mdfqm_spec.contract import ALL_OFF, MODES, Contract, validate_rule, validate_zero_policy
+
 from .update import (
     _check_codes,
     _check_osr,
@@ -61,8 +62,6 @@ from .update import (
     modulate,
     remove_common_mode,
     sort1,
-    validate_rule,
-    validate_zero_policy,
 )
 
 __all__ = [

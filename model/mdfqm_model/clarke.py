@@ -19,11 +19,12 @@ half a code plus ``|beta| 2**-FRAC``.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
-FRAC = 17
-K = round(math.sqrt(3) / 2 * (1 << FRAC))
+from mdfqm_spec.contract import CLARKE_FRAC as FRAC
+from mdfqm_spec.contract import CLARKE_K as K
+
+__all__ = ["InverseClarkeModel", "inverse_clarke"]
 
 
 def inverse_clarke(alpha: int, beta: int, width: int) -> tuple[tuple[int, int, int], bool]:

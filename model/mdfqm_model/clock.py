@@ -2,7 +2,7 @@
 (:class:`GeneratorModel`): they predict every output of the gateware on every clock.
 
 A plain per-cycle state machine implementing the section "Clock-level timing of the core" of
-:mod:`mdfqm_model.contract`; the arithmetic of each update is *not* duplicated here, it is
+:mod:`mdfqm_spec.contract`; the arithmetic of each update is *not* duplicated here, it is
 :func:`mdfqm_model.update.mdfqm_update` called at the commit point.
 
 Registers (all reset synchronously to zero)
@@ -48,20 +48,25 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .bbit import bbit_update
-from .contract import (
+from mdfqm_spec.contract import (
     BITS_WIDTH,
     MODE_WIDTH,
     MODES,
+    OSR_WIDTH,
+    PERIOD_WIDTH,
     Contract,
     latch_mode,
     loop_latency,
     min_period,
     resolution_latency,
     validate_max_bits,
+    validate_rule,
+    validate_zero_policy,
 )
+
+from .bbit import bbit_update
 from .inputs import check_bit, check_uint, stimulus_columns
-from .update import mdfqm_update, remove_common_mode, validate_rule, validate_zero_policy
+from .update import mdfqm_update, remove_common_mode
 
 __all__ = ["GENERATOR_OUTPUTS", "OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel", "GeneratorModel"]
 
@@ -72,9 +77,9 @@ GENERATOR_OUTPUTS = (*OUTPUTS, "mode_clamped")
 #: the runtime inputs every model takes (the generator adds ``mode`` and ``bits``)
 INPUTS = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy", "sync_in")
 #: largest value of the unsigned 16-bit ``period`` input
-PERIOD_MAX = (1 << 16) - 1
+PERIOD_MAX = (1 << PERIOD_WIDTH) - 1
 #: largest value of the unsigned 8-bit ``osr`` input
-OSR_MAX = (1 << 8) - 1
+OSR_MAX = (1 << OSR_WIDTH) - 1
 
 
 
@@ -301,8 +306,8 @@ class GeneratorModel(CoreModel):
     """Cycle-accurate model of the gating-signal generator (RTL ``GatingSignalGenerator``).
 
     The core's model plus the section "b-bit pulse-width resolution: the gating-signal generator"
-    of :mod:`mdfqm_model.contract`: runtime ``mode`` and ``bits`` latched at each update start
-    (:func:`mdfqm_model.contract.latch_mode`), short / long updates, the mode-dependent minimum
+    of :mod:`mdfqm_spec.contract`: runtime ``mode`` and ``bits`` latched at each update start
+    (:func:`mdfqm_spec.contract.latch_mode`), short / long updates, the mode-dependent minimum
     period and sync threshold, slot layouts presented ``L_b`` after their start. The arithmetic
     of each update is :func:`mdfqm_model.bbit.bbit_update` (which is
     :func:`mdfqm_model.update.mdfqm_update` for mdfqm), called at the commit point; its

@@ -67,50 +67,21 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from mdfqm_spec.contract import TIME_WIDTH, validate_dead_min, validate_time_width
+from mdfqm_spec.validate import validate_bool
+
 from .inputs import check_bit, check_uint, stimulus_columns
 
 __all__ = [
     "DRIVER_OUTPUTS",
-    "TIME_WIDTH",
     "GateDriverModel",
     "LegModel",
     "SafetyError",
     "check_gate_safety",
-    "validate_dead_min",
-    "validate_time_width",
 ]
 
-#: width of the dead-time / minimum-pulse inputs and of the leg counters (clocks)
-TIME_WIDTH = 16
 #: per-cycle outputs of :meth:`GateDriverModel.step`
 DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active")
-
-
-
-
-def validate_time_width(time_width) -> int:
-    """``time_width`` in [2, 32] (bits of the dead-time and minimum-pulse counters)."""
-    if (
-        isinstance(time_width, bool)
-        or not isinstance(time_width, int)
-        or not (2 <= time_width <= 32)
-    ):
-        raise ValueError(f"time_width must be an integer in [2, 32], not {time_width!r}")
-    return time_width
-
-
-def validate_dead_min(dead_min, time_width: int = TIME_WIDTH) -> int:
-    """``dead_min`` in [1, 2**time_width - 1]: the dead-time floor in clocks."""
-    top = (1 << time_width) - 1
-    if isinstance(dead_min, bool) or not isinstance(dead_min, int) or not 1 <= dead_min <= top:
-        raise ValueError(f"dead_min must be an integer in [1, {top}] (clocks), not {dead_min!r}")
-    return dead_min
-
-
-def _validate_bool(value, name: str) -> bool:
-    if not isinstance(value, bool):
-        raise ValueError(f"{name} must be a bool, not {value!r}")
-    return value
 
 
 class LegModel:
@@ -188,8 +159,8 @@ class GateDriverModel:
         self.phases = phases
         self.time_width = validate_time_width(time_width)
         self.dead_min = validate_dead_min(dead_min, time_width)
-        self.upper_active_low = _validate_bool(upper_active_low, "upper_active_low")
-        self.lower_active_low = _validate_bool(lower_active_low, "lower_active_low")
+        self.upper_active_low = validate_bool(upper_active_low, "upper_active_low")
+        self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")
         self.mask = (1 << phases) - 1
         self.legs = [LegModel(dead_min, time_width) for _ in range(phases)]
         self.sync1 = 0  # the synchroniser is not reset

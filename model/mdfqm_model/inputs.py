@@ -2,6 +2,8 @@
 
 import numpy as np
 
+__all__ = ["check_bit", "check_uint", "stimulus_columns"]
+
 
 def check_bit(value, name: str) -> int:
     """``value`` as 0/1 (a bool or the integers 0 and 1), else ``ValueError`` naming ``name``."""

@@ -1,20 +1,8 @@
-"""N-phase sine reference of the board demo: phase accumulator, sine table, amplitude.
+"""Clock-level model of the board demo's N-phase sine reference (:class:`demo.nco.SineNco`).
 
-Specification (bit-true; the gateware is :class:`mdfqm_gateware.demo.nco.SineNco`):
-
-- Phase accumulator of ``acc_bits`` bits: ``acc <- (acc + freq) mod 2**acc_bits`` every clock,
-  so the output frequency is ``freq * f_clk / 2**acc_bits``.
-- Sine table of ``4 Q`` entries, ``Q = 2**table_bits`` per quarter wave, sampled half a step off
-  the axes so that the quarter-wave symmetry is exact:
-  ``m(j) = round(A sin(pi/2 (j + 1/2) / Q))`` for ``j < Q``, ``A = 2**(sample_width-1) - 1``,
-  and ``s(k) = m(j)``, ``m(Q-1-j)``, ``-m(j)``, ``-m(Q-1-j)`` in quadrants 0..3 of
-  ``k = q Q + j``. A quarter table stores ``m``, a full table stores ``s``; both give ``s``.
-- Phase ``i`` of ``N`` lags by ``i/N`` turn: its table index is the top ``table_bits + 2``
-  bits of ``(base - floor(i 2**acc_bits / N)) mod 2**acc_bits``.
-- Code (``FULL = 2**(width-2)`` codes per Vdc, as the core's reference):
-  ``c_i = sign(s) floor(amplitude |s| / 2**(sample_width-1))``, truncated toward zero so that
-  the wave is symmetric; ``amplitude`` is an unsigned ``width - 1``-bit number of codes, so
-  ``|c_i| < 2**(width-1)`` always fits.
+The phase accumulator, the sine table, the phase offsets and the amplitude scaling are specified
+in :mod:`mdfqm_spec.nco`; this module computes the codes from them (vectorised for the analysis)
+and models the clock-level timing:
 
 Clock-level timing (:class:`NcoModel`): a cycle with the FSM idle and no beat held *captures*
 ``base = acc`` (the value visible in that cycle) and the amplitude; each phase then takes
@@ -28,40 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["NcoModel", "phase_offsets", "reference_codes", "sine_quarter", "sine_table",
-           "validate_nco"]
+from mdfqm_spec.nco import phase_offsets, sine_table, validate_nco
 
-
-def _int_in(value, name, lo, hi):
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or \
-            not lo <= value <= hi:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], not {value!r}")
-    return int(value)
-
-
-def validate_nco(acc_bits: int, table_bits: int, sample_width: int) -> None:
-    """``ValueError`` naming the first bad parameter."""
-    _int_in(table_bits, "table_bits", 2, 12)
-    _int_in(sample_width, "sample_width", 4, 24)
-    _int_in(acc_bits, "acc_bits", table_bits + 2, 32)
-
-
-def sine_quarter(table_bits: int, sample_width: int) -> np.ndarray:
-    """``m(j)``, the quarter wave (int64, ``2**table_bits`` entries, all > 0)."""
-    q = 1 << table_bits
-    amp = (1 << (sample_width - 1)) - 1
-    return np.rint(amp * np.sin(np.pi / 2 * (np.arange(q) + 0.5) / q)).astype(np.int64)
-
-
-def sine_table(table_bits: int, sample_width: int) -> np.ndarray:
-    """``s(k)``, the full wave built from the quarter by symmetry (int64, ``4 Q`` entries)."""
-    m = sine_quarter(table_bits, sample_width)
-    return np.concatenate([m, m[::-1], -m, -m[::-1]])
-
-
-def phase_offsets(phases: int, acc_bits: int) -> list[int]:
-    """Accumulator offsets of the phases: ``-floor(i 2**acc_bits / N) mod 2**acc_bits``."""
-    return [(-(i * (1 << acc_bits) // phases)) % (1 << acc_bits) for i in range(phases)]
+__all__ = ["NcoModel", "reference_codes"]
 
 
 def reference_codes(base, amplitude, phases: int, acc_bits: int = 32, table_bits: int = 8,
@@ -69,7 +26,7 @@ def reference_codes(base, amplitude, phases: int, acc_bits: int = 32, table_bits
     """Codes of every phase for accumulator value(s) ``base``: shape ``base.shape + (N,)``."""
     base = np.asarray(base, dtype=np.int64)
     amplitude = np.asarray(amplitude, dtype=np.int64)
-    table = sine_table(table_bits, sample_width)
+    table = np.asarray(sine_table(table_bits, sample_width), dtype=np.int64)
     mask = (1 << acc_bits) - 1
     shift = acc_bits - table_bits - 2
     out = []

@@ -1,7 +1,6 @@
 """Clock-level model of the drop-in top: core + gate driver + Wishbone register file + switching
-counters + ADC trigger. The register map below is the single source of truth: the gateware
-(:mod:`mdfqm_gateware.top`) imports these constants, ``docs/top.md`` documents them (a test
-checks the table there against :data:`REGISTERS`).
+counters + ADC trigger. The register map is :mod:`mdfqm_spec.regmap` (the gateware builds its
+register file from it, ``docs/top.md`` documents it, a test checks the table there).
 
 The core's algorithm is not repeated here: :class:`TopModel` composes
 :class:`mdfqm_model.clock.CoreModel` and :class:`mdfqm_model.driver.GateDriverModel`.
@@ -43,98 +42,55 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from mdfqm_spec.contract import TIME_WIDTH, validate_dead_min
+from mdfqm_spec.regmap import (
+    ADC_COUNTER_WIDTH,
+    ADC_OFFSET,
+    ADDR_WIDTH,
+    CMD,
+    CMD_COUNT_CLEAR,
+    CMD_FAULT_CLEAR,
+    CMD_REF_COMMIT,
+    COUNTER_WIDTH,
+    CTRL,
+    CTRL_ENABLE,
+    CTRL_MASK,
+    CTRL_ZERO_POLICY,
+    DEAD,
+    DEAD_MIN,
+    DEFAULT_DEAD_MIN,
+    EVENTS_BASE,
+    EVENTS_TOTAL,
+    GATES,
+    ID,
+    ID_VALUE,
+    INFO,
+    MIN_PULSE,
+    OSR,
+    PERIOD,
+    REF_BASE,
+    STATUS,
+    STATUS_ACTIVE,
+    STATUS_FAULT,
+    STATUS_FAULT_INPUT,
+    STATUS_PERIOD_CLAMPED,
+    STATUS_REF_PENDING,
+    STATUS_SATURATED,
+    info_word,
+    validate_top_phases,
+)
+
 from .clock import CoreModel
-from .contract import RULES
-from .driver import TIME_WIDTH, GateDriverModel, validate_dead_min
+from .driver import GateDriverModel
 from .inputs import check_bit
 
-__all__ = [
-    "ADC_COUNTER_WIDTH",
-    "ADDR_WIDTH",
-    "COUNTER_WIDTH",
-    "DEFAULT_DEAD_MIN",
-    "ID_VALUE",
-    "MAX_PHASES",
-    "REGISTERS",
-    "TOP_OUTPUTS",
-    "Register",
-    "TopModel",
-    "info_word",
-    "validate_top_phases",
-]
-
-ADDR_WIDTH = 6
-MAX_PHASES = 16
-ID_VALUE = 0x4D444651           # "MDFQ"
-COUNTER_WIDTH = 32
-ADC_COUNTER_WIDTH = 17          # > 16 bits: it saturates above every ADC_OFFSET
-DEFAULT_DEAD_MIN = 64           # clocks: 0.64 us at 100 MHz, 1.33 us at 48 MHz
-
-# word addresses
-ID, INFO, DEAD_MIN, CTRL, CMD, STATUS = 0x00, 0x01, 0x02, 0x03, 0x04, 0x05
-PERIOD, OSR, DEAD, MIN_PULSE, ADC_OFFSET = 0x06, 0x07, 0x08, 0x09, 0x0A
-EVENTS_TOTAL, GATES = 0x0B, 0x0C
-REF_BASE, EVENTS_BASE = 0x10, 0x20
-
-# CTRL bits
-CTRL_ENABLE, CTRL_ZERO_POLICY = 1 << 0, 1 << 1
-CTRL_MASK = CTRL_ENABLE | CTRL_ZERO_POLICY
-# CMD bits (write-1 strobes)
-CMD_REF_COMMIT, CMD_FAULT_CLEAR, CMD_COUNT_CLEAR = 1 << 0, 1 << 1, 1 << 2
-# STATUS bits
-(STATUS_FAULT, STATUS_FAULT_INPUT, STATUS_ACTIVE, STATUS_REF_PENDING, STATUS_SATURATED,
- STATUS_PERIOD_CLAMPED) = (1 << b for b in range(6))
+__all__ = ["TOP_OUTPUTS", "TopModel"]
 
 #: per-cycle outputs of :meth:`TopModel.step`
 TOP_OUTPUTS = ("wb_ack", "wb_dat_r", "ref_ready", "upper", "lower", "adc_trigger", "sync_out",
                "fault")
-
-
-@dataclass(frozen=True)
-class Register:
-    address: int
-    name: str
-    access: str        # "R", "RW", "W"
-    reset: str         # as documented
-    clamp: str
-
-
-REGISTERS = (
-    Register(ID, "ID", "R", "0x4D444651", "-"),
-    Register(INFO, "INFO", "R", "config", "-"),
-    Register(DEAD_MIN, "DEAD_MIN", "R", "dead_min", "-"),
-    Register(CTRL, "CTRL", "RW", "0", "bits other than ENABLE, ZERO_POLICY dropped"),
-    Register(CMD, "CMD", "W", "0", "write-1 strobes; reads 0"),
-    Register(STATUS, "STATUS", "R", "0", "-"),
-    Register(PERIOD, "PERIOD", "RW", "latency", "min(v, 65535); core uses max(PERIOD, latency)"),
-    Register(OSR, "OSR", "RW", "1", "min(v, 255); core uses max(OSR, 1)"),
-    Register(DEAD, "DEAD", "RW", "dead_min", "min(max(v, dead_min), 65535)"),
-    Register(MIN_PULSE, "MIN_PULSE", "RW", "0", "min(v, 65535)"),
-    Register(ADC_OFFSET, "ADC_OFFSET", "RW", "0", "min(v, 65535)"),
-    Register(EVENTS_TOTAL, "EVENTS_TOTAL", "R", "0", "wraps at 2**32"),
-    Register(GATES, "GATES", "R", "0", "-"),
-    Register(REF_BASE, "REF[i]", "RW", "0", "signed, saturated to the width-bit code range"),
-    Register(EVENTS_BASE, "EVENTS[i]", "R", "0", "wraps at 2**32"),
-)
-
-
-def validate_top_phases(phases) -> int:
-    if isinstance(phases, bool) or not isinstance(phases, int) or not 3 <= phases <= MAX_PHASES:
-        raise ValueError(f"phases must be an integer in [3, {MAX_PHASES}] (the register map "
-                         f"holds {MAX_PHASES} legs), not {phases!r}")
-    return phases
-
-
-def info_word(phases: int, width: int, rule: str, upper_active_low: bool,
-              lower_active_low: bool, latency: int) -> int:
-    """``INFO``: phases [4:0], width [10:5], rule [11] (1 exact_nearest), upper_active_low [12],
-    lower_active_low [13], loop latency [23:16]."""
-    return (phases | width << 5 | RULES.index(rule) << 11 | int(upper_active_low) << 12
-            | int(lower_active_low) << 13 | latency << 16)
 
 
 def _u32(value, name):
@@ -142,8 +98,6 @@ def _u32(value, name):
             or not 0 <= value < (1 << 32)):
         raise ValueError(f"{name} must be an unsigned 32-bit integer, not {value!r}")
     return int(value)
-
-
 
 
 class TopModel:
@@ -317,57 +271,3 @@ class TopModel:
         self.ack = int(req)
         self.dat_r = rd
         return out
-
-
-def timing_diagram(period: int = 16, dead: int = 3, adc_offset: int = 2) -> str:
-    """One update of a three-phase top, rendered from :class:`TopModel` (``docs/top.md`` shows
-    this text; a test checks it is current). One character per clock: ``‾`` high, ``_`` low;
-    ``h`` as a hexadecimal digit. Leg 0 switches from lower to upper in the update shown."""
-    m = TopModel(3, 16, dead_min=2)
-    f = m.contract.full
-
-    def tick(**kw):
-        row = {"up": m.driver.up, "lo": m.driver.lo, "h": m.core.h, "update": m.core.update,
-               "ref_valid": kw.get("ref_valid", 0)}
-        row.update(m.step(**kw))
-        return row
-
-    for address, value in ((PERIOD, period), (DEAD, dead), (ADC_OFFSET, adc_offset),
-                           (CTRL, CTRL_ENABLE)):
-        bus = {"wb_cyc": 1, "wb_stb": 1, "wb_we": 1, "wb_adr": address, "wb_dat_w": value}
-        tick(**bus)
-        tick(**bus)
-        tick()
-    # run to an update start, offer one beat just after it, and follow it to the gates
-    while m.core.phase != 0:
-        tick()
-    tick()
-    rows = [tick(), tick(ref_valid=1, ref=[f // 2, -f // 4, -f // 4])]
-    while rows[-1]["ref_ready"] == 0:
-        rows.append(tick(ref_valid=1, ref=[f // 2, -f // 4, -f // 4]))
-    for _ in range(2 * period + 6):
-        rows.append(tick())
-    starts = [i for i, r in enumerate(rows) if r["sync_out"]]
-    s = next(i for i in starts if any(rows[j]["h"] != rows[i]["h"] for j in range(i, len(rows))))
-    lo_cycle, hi_cycle = 0, min(len(rows), s + m.latency + dead + 8)
-    window = rows[lo_cycle:hi_cycle]
-
-    def wave(values):
-        return "".join("‾" if v else "_" for v in values)
-
-    lines = [
-        f"PERIOD={period}  DEAD={dead}  ADC_OFFSET={adc_offset}  latency L={m.latency}  "
-        f"(s = update start)",
-        "cycle            " + "".join(
-            "s" if i == s else ("|" if (i - s) % 5 == 0 else " ")
-            for i in range(lo_cycle, hi_cycle)),
-        "ref__valid       " + wave(r["ref_valid"] for r in window),
-        "ref__ready       " + wave(r["ref_ready"] for r in window),
-        "sync_out         " + wave(r["sync_out"] for r in window),
-        "core.update      " + wave(r["update"] for r in window),
-        "core.h           " + "".join(f"{r['h']:x}" for r in window),
-        "upper[0]         " + wave(r["up"] & 1 for r in window),
-        "lower[0]         " + wave(r["lo"] & 1 for r in window),
-        "adc_trigger      " + wave(r["adc_trigger"] for r in window),
-    ]
-    return "\n".join(lines)

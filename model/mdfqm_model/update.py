@@ -1,6 +1,6 @@
 """The per-update MDFQM algorithm, in exact integers (the bit-true golden model of one update).
 
-Fixed-point contract (see :mod:`mdfqm_model.contract`, which this module implements to the letter)
+Fixed-point contract (``docs/contract.md``, :mod:`mdfqm_spec.contract`; implemented to the letter)
 ----------------------------------------------------------------------------------------------------
 - Inputs are integers: reference codes ``c_i`` are ``width``-bit two's complement,
   ``FULL = 2**(width-2)`` codes per Vdc.  Everything below works in the *N-scaled* domain, where one
@@ -29,7 +29,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contract import ALL_OFF, FEWEST_TRANSITIONS, RULES, ZERO_POLICIES, Contract
+from mdfqm_spec.contract import (
+    ALL_OFF,
+    FEWEST_TRANSITIONS,
+    Contract,
+    validate_rule,
+    validate_zero_policy,
+)
 
 __all__ = [
     "UpdateResult",
@@ -45,31 +51,7 @@ __all__ = [
     "remove_common_mode",
     "select",
     "sort1",
-    "validate_rule",
-    "validate_zero_policy",
 ]
-
-
-# --------------------------------------------------------------------------------------------
-# parameter validation
-# --------------------------------------------------------------------------------------------
-
-
-def validate_rule(rule: str) -> str:
-    """Return ``rule`` if it is one of :data:`contract.RULES`, else raise ``ValueError``."""
-    if rule not in RULES:
-        raise ValueError(f"rule must be one of {RULES}, not {rule!r}")
-    return rule
-
-
-def validate_zero_policy(zero_policy: int) -> int:
-    """Return ``zero_policy`` (0 = all-off, 1 = fewest transitions) or raise ``ValueError``."""
-    if isinstance(zero_policy, bool) or zero_policy not in ZERO_POLICIES:
-        raise ValueError(
-            f"zero_policy must be one of {ZERO_POLICIES} (0 = all-off, 1 = fewest transitions), "
-            f"not {zero_policy!r}"
-        )
-    return int(zero_policy)
 
 
 def _int_vector(values: Sequence[int], n: int, name: str) -> list[int]:

@@ -12,8 +12,8 @@ from mdfqm_model.bbit import (
     modulate_bbit,
     quantised_instants,
 )
-from mdfqm_model.contract import FEWEST_TRANSITIONS, Contract
 from mdfqm_model.update import modulate, popcount, remove_common_mode, sort1
+from mdfqm_spec.contract import FEWEST_TRANSITIONS, Contract
 
 from .test_update import linear_amplitude, sine_refs
 

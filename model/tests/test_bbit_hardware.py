@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from mdfqm_model.bbit import bbit_update, centred_slots, gamma2_for, quantised_instants
-from mdfqm_model.contract import (
+from mdfqm_model.update import remove_common_mode, sort1
+from mdfqm_spec.contract import (
     MODES,
     Contract,
     latch_mode,
@@ -17,7 +18,6 @@ from mdfqm_model.contract import (
     sorting_network,
     validate_max_bits,
 )
-from mdfqm_model.update import remove_common_mode, sort1
 
 GAMMA_MODES = MODES[1:]
 

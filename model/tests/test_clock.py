@@ -1,11 +1,11 @@
-"""Clock-level model: the timing rules of contract.py's "Clock-level timing of the core"."""
+"""Clock-level model: the timing rules of docs/contract.md's "Clock-level timing of the core"."""
 
 import numpy as np
 import pytest
 
 from mdfqm_model.clock import CoreModel
-from mdfqm_model.contract import FEWEST_TRANSITIONS, Contract, loop_latency
 from mdfqm_model.update import modulate
+from mdfqm_spec.contract import FEWEST_TRANSITIONS, Contract, loop_latency
 
 OUTPUTS6 = ("ref_ready", "sample", "h", "update", "saturated", "period_clamped")
 

@@ -5,7 +5,7 @@ import pytest
 
 from mdfqm_model.bbit import modulate_bbit
 from mdfqm_model.clock import GENERATOR_OUTPUTS, OUTPUTS, CoreModel, GeneratorModel
-from mdfqm_model.contract import (
+from mdfqm_spec.contract import (
     FEWEST_TRANSITIONS,
     MODES,
     Contract,

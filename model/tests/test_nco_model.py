@@ -3,25 +3,19 @@
 import numpy as np
 import pytest
 
-from mdfqm_model.nco import (
-    NcoModel,
-    phase_offsets,
-    reference_codes,
-    sine_quarter,
-    sine_table,
-    validate_nco,
-)
+from mdfqm_model.nco import NcoModel, reference_codes
+from mdfqm_spec.nco import phase_offsets, sine_quarter, sine_table, validate_nco
 
 
 @pytest.mark.parametrize(("table_bits", "sample_width"), [(2, 4), (8, 16), (10, 18), (12, 24)])
 def test_table_is_the_sine_half_a_step_off_the_axes(table_bits, sample_width):
-    table = sine_table(table_bits, sample_width)
+    table = np.array(sine_table(table_bits, sample_width))
     k = np.arange(4 << table_bits)
     amp = (1 << (sample_width - 1)) - 1
     exact = amp * np.sin(2 * np.pi * (k + 0.5) / (4 << table_bits))
     assert np.max(np.abs(table - exact)) <= 0.5 + 1e-9
     assert table.sum() == 0                               # odd and half-wave symmetric
-    assert np.all(sine_quarter(table_bits, sample_width) > 0)
+    assert min(sine_quarter(table_bits, sample_width)) > 0
     assert np.max(np.abs(table)) <= amp
 
 

@@ -7,9 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mdfqm_model import top as regs
 from mdfqm_model.driver import check_gate_safety
-from mdfqm_model.top import REGISTERS, TopModel
+from mdfqm_model.top import TopModel
+from mdfqm_spec import regmap as regs
+from mdfqm_spec.regmap import REGISTERS
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "top.md"
 
@@ -270,28 +271,10 @@ def test_docs_register_table_matches_the_map():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) >= 4 and re.fullmatch(r"0x[0-9A-F]{2}(\+i)?", cells[0]):
             rows[int(cells[0][:4], 16)] = cells
-    assert sorted(rows) == sorted(r.address for r in REGISTERS)
+    assert sorted(rows) == sorted(r.offset for r in REGISTERS)
     for r in REGISTERS:
-        cells = rows[r.address]
-        assert cells[1].strip("`") == r.name, cells
+        cells = rows[r.offset]
+        assert cells[1].strip("`") == (f"{r.name}[i]" if r.count > 1 else r.name), cells
         assert cells[2] == r.access, cells
         assert cells[3].strip("`") == r.reset, cells
 
-
-def test_docs_timing_diagram_is_current():
-    from mdfqm_model.top import timing_diagram
-
-    assert timing_diagram() in DOCS.read_text()
-
-
-def test_timing_diagram_shows_dead_time_and_adc_offset():
-    from mdfqm_model.top import timing_diagram
-
-    lines = {line[:17].strip(): line[17:] for line in timing_diagram().splitlines()[1:]}
-    s = lines["cycle"].index("s")
-    assert lines["sync_out"][s] == "‾"
-    assert lines["core.update"][s + 8] == "‾"
-    lower_off = lines["lower[0]"].index("_", s)
-    upper_on = lines["upper[0]"].index("‾", s)
-    assert (lower_off, upper_on) == (s + 9, s + 12)          # L + 1, L + 1 + DEAD
-    assert lines["adc_trigger"][s + 3] == "‾"                # s + 1 + ADC_OFFSET

@@ -5,7 +5,6 @@ import itertools
 import numpy as np
 import pytest
 
-from mdfqm_model.contract import ALL_OFF, FEWEST_TRANSITIONS, Contract, loop_latency
 from mdfqm_model.update import (
     candidates,
     decode,
@@ -18,6 +17,7 @@ from mdfqm_model.update import (
     select,
     sort1,
 )
+from mdfqm_spec.contract import ALL_OFF, FEWEST_TRANSITIONS, Contract, loop_latency
 
 
 def brute_force_distances(t, contract):

@@ -6,6 +6,9 @@ Amaranth widens the difference by one bit, so its top bit is the true sign.
 """
 
 
+__all__ = ["greater", "greater_equal"]
+
+
 def greater(a, b):
     """``a > b`` as the sign of ``b - a``."""
     return (b - a)[-1]

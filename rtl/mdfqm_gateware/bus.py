@@ -7,7 +7,7 @@ dat_r ack in, from the master's view), so a master connects with ``wiring.connec
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .params import validate_positive
+from mdfqm_spec.validate import validate_positive
 
 __all__ = ["WishboneSignature"]
 

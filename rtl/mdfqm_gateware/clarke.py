@@ -5,9 +5,11 @@ from amaranth import Cat, Module, Signal, signed
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.clarke import FRAC, K
+from mdfqm_spec.contract import CLARKE_FRAC as FRAC
+from mdfqm_spec.contract import CLARKE_K as K
+from mdfqm_spec.validate import validate_positive
 
-from .params import validate_positive
+__all__ = ["InverseClarke"]
 
 
 class InverseClarke(wiring.Component):

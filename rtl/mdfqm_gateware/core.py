@@ -6,14 +6,16 @@ from amaranth import Module, signed
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out, connect
 
-from mdfqm_model.contract import loop_latency
+from mdfqm_spec.contract import Contract, loop_latency, validate_rule
+from mdfqm_spec.validate import validate_bool, validate_positive
 
 from .integrator import Integrator
-from .params import contract_for, validate_bool, validate_positive, validate_rule
 from .reference import ReferenceStage
 from .selector import ArgMax, Candidates, StateDecoder, candidate_width
 from .sequencer import UpdateSequencer
 from .sort import SortNetwork
+
+__all__ = ["MdfqmCore", "build_loop", "loop_ports"]
 
 
 class MdfqmCore(wiring.Component):
@@ -22,7 +24,7 @@ class MdfqmCore(wiring.Component):
     One update every ``period`` clocks: ``T = X + R``; sort1; duties (or exact scores) of the
     staircase states; sort2 picks the winner; it is un-permuted to the gate state ``h``; its
     phase voltage is fed back into the integrators. Every bit and every clock follows
-    :mod:`mdfqm_model.contract` and is predicted by :class:`mdfqm_model.clock.CoreModel`.
+    :mod:`mdfqm_spec.contract` and is predicted by :class:`mdfqm_model.clock.CoreModel`.
 
     Ports
     -----
@@ -75,8 +77,8 @@ class MdfqmCore(wiring.Component):
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  formal: bool = False):
-        self.contract = contract_for(phases, width)
-        self.rule = validate_rule(rule)
+        self.contract = Contract(phases, width)
+        self.rule = validate_rule(rule, phases)
         self.formal = validate_bool(formal, "formal")
         self.phases, self.width = phases, width
         self.latency = loop_latency(phases, rule)

@@ -23,9 +23,8 @@ from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.driver import TIME_WIDTH, validate_dead_min, validate_time_width
-
-from .params import validate_bool
+from mdfqm_spec.contract import TIME_WIDTH, validate_dead_min, validate_time_width
+from mdfqm_spec.validate import validate_bool
 
 __all__ = ["GateDriver", "LegDriver"]
 

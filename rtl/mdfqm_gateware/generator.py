@@ -5,17 +5,19 @@ from amaranth.hdl import Assert, Cover
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.contract import (
+from mdfqm_spec.contract import (
     BITS_WIDTH,
     MODE_WIDTH,
     MODES,
+    Contract,
     loop_latency,
     resolution_latency,
     validate_max_bits,
+    validate_rule,
 )
+from mdfqm_spec.validate import validate_bool
 
 from .core import build_loop, loop_ports
-from .params import contract_for, validate_bool, validate_rule
 from .resolution import Quantiser, SlotLayout
 from .sequencer import UpdateSequencer
 
@@ -34,7 +36,7 @@ class GatingSignalGenerator(wiring.Component):
     decoder; one sort network and one integrator bank serve every mode) plus a
     :class:`~.resolution.Quantiser` and a :class:`~.resolution.SlotLayout`. With ``mode`` held at
     0 it is, cycle for cycle and bit for bit, :class:`~.core.MdfqmCore`. Every bit and clock
-    follows :mod:`mdfqm_model.contract` (section "b-bit pulse-width resolution") and is
+    follows ``docs/contract.md`` (section "b-bit pulse-width resolution") and is
     predicted by :class:`mdfqm_model.clock.GeneratorModel`.
 
     Ports
@@ -102,8 +104,8 @@ class GatingSignalGenerator(wiring.Component):
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  max_bits: int = 8, formal: bool = False):
-        self.contract = contract_for(phases, width)
-        self.rule = validate_rule(rule)
+        self.contract = Contract(phases, width)
+        self.rule = validate_rule(rule, phases)
         self.formal = validate_bool(formal, "formal")
         self.max_bits = validate_max_bits(max_bits, width)
         self.phases, self.width = phases, width

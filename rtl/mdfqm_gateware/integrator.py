@@ -5,15 +5,16 @@ from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.contract import signed_bits
+from mdfqm_spec.contract import Contract, signed_bits
+from mdfqm_spec.validate import validate_bool, validate_positive
 
-from .params import contract_for, validate_bool, validate_positive
+__all__ = ["Integrator"]
 
 
 class Integrator(wiring.Component):
     """Per-phase integrators ``z/(z-1)`` in the exact N-scaled integer domain, with anti-windup.
 
-    Contract (:mod:`mdfqm_model.contract`): ``T = X + R`` is registered at the update start and
+    Contract (``docs/contract.md``): ``T = X + R`` is registered at the update start and
     held for the whole update (the pipeline behind it reads it until the commit). At the commit
     ``U_i = FULL (N h_i - k)`` and ``X' = T - U``; if any ``X'_i`` leaves the signed
     ``x_width``-bit range the integrators keep their value and ``o_saturated`` is set (conditional
@@ -50,7 +51,7 @@ class Integrator(wiring.Component):
 
     def __init__(self, phases: int, width: int, unit_shift: int | None = None,
                  formal: bool = False, formal_sums: bool = True):
-        self.contract = contract_for(phases, width)
+        self.contract = Contract(phases, width)
         self.formal = validate_bool(formal, "formal")
         self.formal_sums = validate_bool(formal_sums, "formal_sums")
         self.phases = phases

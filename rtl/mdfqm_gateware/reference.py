@@ -4,13 +4,15 @@ from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
-from .params import contract_for
+from mdfqm_spec.contract import Contract
+
+__all__ = ["ReferenceStage"]
 
 
 class ReferenceStage(wiring.Component):
     """Accept phase references, remove their common mode, hold them between sampling ticks.
 
-    Contract (:mod:`mdfqm_model.contract`, "Reference stage"): a beat accepted in cycle ``a``
+    Contract (``docs/contract.md``, "Reference stage"): a beat accepted in cycle ``a``
     becomes ``pending`` (``R_i = N c_i - sum_j c_j``, exact) visible from cycle ``a + 3``; one beat
     is in flight at a time, so ``ready`` is low from acceptance until a sampling tick consumes
     ``pending``. A tick without a new beat keeps the held reference (zero-order hold).
@@ -28,7 +30,7 @@ class ReferenceStage(wiring.Component):
     """
 
     def __init__(self, phases: int, width: int):
-        self.contract = contract_for(phases, width)
+        self.contract = Contract(phases, width)
         self.phases, self.width = phases, width
         r_shape = signed(self.contract.r_width)
         super().__init__({

@@ -1,6 +1,6 @@
 """b-bit pulse-width resolution: the quantiser of the slot counts and the slot layout.
 
-Both follow :mod:`mdfqm_model.contract` (section "b-bit pulse-width resolution: the
+Both follow ``docs/contract.md`` (section "b-bit pulse-width resolution: the
 gating-signal generator") and :mod:`mdfqm_model.bbit`; :class:`mdfqm_model.clock.GeneratorModel`
 predicts every bit of them on every clock, through :class:`GatingSignalGenerator`.
 """
@@ -9,17 +9,17 @@ from amaranth import Array, Cat, Const, Module, Mux, Signal, signed, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.contract import (
+from mdfqm_spec.contract import (
     BITS_WIDTH,
     MAX_BITS_LIMIT,
     MODE_WIDTH,
     MODES,
+    Contract,
     ceil_log2,
     signed_bits,
     validate_max_bits,
 )
-
-from .params import contract_for, validate_positive
+from mdfqm_spec.validate import validate_positive
 
 __all__ = ["Quantiser", "SlotLayout"]
 
@@ -120,7 +120,7 @@ class Quantiser(wiring.Component):
     """
 
     def __init__(self, phases: int, width: int, max_bits: int):
-        self.contract = contract_for(phases, width)
+        self.contract = Contract(phases, width)
         self.max_bits = validate_max_bits(max_bits, width)
         self.phases, self.width = phases, width
         units_max = (phases - 1) << max_bits

@@ -6,17 +6,18 @@ from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.contract import ARGMAX_GROUP, argmax_stages, signed_bits
+from mdfqm_spec.contract import ARGMAX_GROUP, Contract, argmax_stages, signed_bits, validate_rule
+from mdfqm_spec.validate import validate_bool, validate_positive
 
 from .arith import greater, greater_equal
-from .params import contract_for, validate_bool, validate_positive, validate_rule
 from .properties import delayed, is_permutation
-from .sort import validate_width
+
+__all__ = ["ArgMax", "Candidates", "StateDecoder", "candidate_width"]
 
 
 def candidate_width(phases: int, width: int) -> int:
     """Width of a duty or score: both are bounded by ``2 N max|T|`` plus the constant term."""
-    c = contract_for(phases, width)
+    c = Contract(phases, width)
     t_max = 1 << (c.t_width - 1)
     bound = 2 * phases * t_max + c.full * phases * phases
     return signed_bits(-bound, bound)
@@ -41,8 +42,8 @@ class Candidates(wiring.Component):
     """
 
     def __init__(self, phases: int, width: int, rule: str = "largest_duty"):
-        self.contract = contract_for(phases, width)
-        self.rule = validate_rule(rule)
+        self.contract = Contract(phases, width)
+        self.rule = validate_rule(rule, phases)
         self.phases, self.width = phases, width
         self.value_width = candidate_width(phases, width)
         super().__init__({
@@ -97,7 +98,7 @@ class ArgMax(wiring.Component):
 
     def __init__(self, count: int, width: int, formal: bool = False):
         validate_positive(count, "count", minimum=2)
-        validate_width(width)
+        validate_positive(width, "width", minimum=2, maximum=64)
         self.formal = validate_bool(formal, "formal")
         self.count, self.width = count, width
         super().__init__({

@@ -4,15 +4,16 @@ from amaranth import Array, Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period
+from mdfqm_spec.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period
+from mdfqm_spec.validate import validate_positive
 
-from .params import validate_positive
+__all__ = ["UpdateSequencer"]
 
 
 class UpdateSequencer(wiring.Component):
     """Runtime update period and oversampling ratio, latched at update boundaries.
 
-    Contract (:mod:`mdfqm_model.contract`, "Update sequencer", "Sampling switch"): a cycle with
+    Contract (``docs/contract.md``, "Update sequencer", "Sampling switch"): a cycle with
     ``phase == 0`` is an update start; there ``P = max(period, latency)`` and
     ``osr = max(osr, 1)`` are latched, so a runtime change takes effect at the next boundary and a
     period below the loop latency can never start an update before the previous one committed.
@@ -37,7 +38,7 @@ class UpdateSequencer(wiring.Component):
     period_clamped : Out(1)
         ``period < latency`` at the last update start (registered).
 
-    With ``long_latency`` (the gating-signal generator, :mod:`mdfqm_model.contract` section
+    With ``long_latency`` (the gating-signal generator, ``docs/contract.md`` section
     "b-bit pulse-width resolution") the sequencer also latches ``mode`` and ``bits`` with the
     runtime clamp of ``contract.latch_mode``, decides whether the update is *long* (its mode is
     not mdfqm, or the previous update's was not), and then honours the minimum period

