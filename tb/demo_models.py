@@ -366,8 +366,8 @@ class DemoModel:
         hit_top = adr >> self.top_width == self.top_base >> self.top_width
         dw = self.demo_window
         hit_demo = adr >> dw.addr_width == dw.base >> dw.addr_width
-        ack = int((self.top.ack and hit_top) or (demo["ack"] and hit_demo))
-        dat_r = (self.top.dat_r if hit_top else 0) | (demo["dat_r"] if hit_demo else 0)
+        ack = int((self.top.front.ack and hit_top) or (demo["ack"] and hit_demo))
+        dat_r = (self.top.front.dat_r if hit_top else 0) | (demo["dat_r"] if hit_demo else 0)
         ref_ready = self.top.ref_ready
 
         self.urx.step(rx=uart_rx, ready=br["rx_ready"])

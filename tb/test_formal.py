@@ -16,15 +16,18 @@ from amaranth.lib.wiring import Out
 
 import mdfqm_gateware.top as top_module
 from formal import NoDeadTimeLeg, assertion_site, run_sby
-from mdfqm_gateware import driver, integrator
+from mdfqm_gateware import driver, fronts, integrator
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_gateware.driver import GateDriver, LegDriver
+from mdfqm_gateware.fronts import AxiLiteFront, WishboneFront
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.integrator import Integrator
 from mdfqm_gateware.selector import ArgMax, StateDecoder
 from mdfqm_gateware.sort import SortNetwork
 from mdfqm_gateware.top import MdfqmTop
+from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import Contract, sorting_network
+from mdfqm_spec.regmap import ADDR_WIDTH
 
 # ---------------------------------------------------------------------- leg and gate driver
 
@@ -117,7 +120,20 @@ def test_sby_covers_every_mode_of_the_generator(phases, width, depth):
             f"generator_modes_n{phases}", depth, ("cover",))
 
 
-# ---------------------------------------------------------------------- the whole drop-in top
+# ---------------------------------------------------------------------- bus fronts
+
+
+@pytest.mark.parametrize("bus", ["wishbone", "axi4lite"])
+def test_sby_proves_the_bus_front_rules(bus):
+    """The handshake rules of each front for any master behaviour (no assumption on the bus):
+    Wishbone classic as ZipCPU's fwbc_slave checks them, AXI4-Lite as faxil_slave does (see
+    rtl/mdfqm_gateware/fronts.py); the covers reach reads with data, acks back to back, held
+    write responses with the next write waiting, SLVERR."""
+    front = (WishboneFront(ADDR_WIDTH, formal=True) if bus == "wishbone" else
+             AxiLiteFront(ADDR_WIDTH, mapped_words(3), formal=True))
+    run_sby(front, f"front_{bus}", {"prove": 4, "cover": 10})
+
+
 
 
 class FreeCore(wiring.Component):
@@ -145,11 +161,13 @@ class FreeCore(wiring.Component):
 SATURATION_COVER_OUT_OF_DEPTH = ("cd dut.core.integrator", "delete r:FLAVOR=cover", "cd")
 
 
-@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks"), [
-    ("free", 3, 64, ("prove",)), ("free", 5, 64, ("prove",)), ("free", 3, 2, ("prove", "cover")),
-    ("real", 3, 64, ("prove",)), ("real", 5, 64, ("prove",)), ("real", 3, 2, ("cover",)),
-    pytest.param("real", 5, 2, ("cover",), marks=pytest.mark.long_proof)])    # 176 s
-def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, monkeypatch):
+@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks", "bus"), [
+    ("free", 3, 64, ("prove",), "wishbone"), ("free", 5, 64, ("prove",), "wishbone"),
+    ("free", 3, 2, ("prove", "cover"), "wishbone"), ("real", 3, 64, ("prove",), "wishbone"),
+    ("real", 5, 64, ("prove",), "wishbone"), ("real", 3, 2, ("cover",), "wishbone"),
+    ("free", 3, 2, ("prove", "cover"), "axi4lite"), ("real", 3, 64, ("prove",), "axi4lite"),
+    pytest.param("real", 5, 2, ("cover",), "wishbone", marks=pytest.mark.long_proof)])  # 176 s
+def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, monkeypatch):
     """k-induction over the whole top at the drop-in size (N = 3 and N = 5), with the real core
     and with a free one (any ``h``, ``update``, ``start``, stream ``ready`` in any clock: the
     driver's properties hold for any core behaviour). With the real core the run also proves
@@ -159,13 +177,14 @@ def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, monkeypatc
     network inside the induction window. The free cover run reaches gates switching after an
     enable through the bus, a fault cleared through the bus, both switches of every leg turning
     on; the real one also every gate state as an update's result (both zero states through the
-    zero policy; at N = 5 all-on needs a second update, 34 clocks: `make prove-long`)."""
+    zero policy; at N = 5 all-on needs a second update, 34 clocks: `make prove-long`). Behind
+    the AXI4-Lite front the same, with that front's handshake rules proved in place."""
     if core == "free":
         monkeypatch.setattr(top_module, "MdfqmCore", FreeCore)
     cover_depth = {"free": 14, "real": 24 if phases == 3 else 34}[core]
     depth = {"prove": len(sorting_network(phases)) + 2, "cover": cover_depth}
-    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, formal=True),
-            f"top_{core}_n{phases}_dmin{dead_min}", depth, tasks,
+    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, bus=bus, formal=True),
+            f"top_{core}_n{phases}_dmin{dead_min}_{bus}", depth, tasks,
             mutation=SATURATION_COVER_OUT_OF_DEPTH if core == "real" else ())
 
 
@@ -195,3 +214,19 @@ def test_sby_finds_an_unbounded_integrator():
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(Integrator(3, 8, formal=True), "integrator_unbounded", 12, tasks=("bmc",),
                 keep_failed=False, mutation=("cd dut", "connect -set fits 1'1", "cd"))
+
+
+@pytest.mark.parametrize(("bus", "broken", "message"), [
+    ("wishbone", "bus__ack 1'1", "wishbone: ack right after reset"),
+    ("axi4lite", "port__w_en 1'1",
+     "axi4lite: write responses do not match the AW requests one for one"),
+])
+def test_sby_finds_a_broken_bus_front(bus, broken, message):
+    """A Wishbone front whose ack is stuck high, an AXI4-Lite front that issues a write in
+    every clock, held or not: each breaks its bus's rules, and the check says which."""
+    site = assertion_site(fronts.__file__, message)
+    front = (WishboneFront(ADDR_WIDTH, formal=True) if bus == "wishbone" else
+             AxiLiteFront(ADDR_WIDTH, mapped_words(3), formal=True))
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
+        run_sby(front, f"front_{bus}_broken", 6, tasks=("bmc",), keep_failed=False,
+                mutation=("cd dut", f"connect -set {broken}", "cd"))

@@ -21,40 +21,167 @@ from mdfqm_model.driver import check_gate_safety
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
 
-# (phases, width, rule, dead_min, upper_active_low, lower_active_low)
-CASES = [(3, 16, "largest_duty", 3, False, False), (5, 16, "exact_nearest", 5, True, True)]
+# (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus)
+CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone"),
+         (5, 16, "exact_nearest", 5, True, True, "wishbone"),
+         (3, 16, "largest_duty", 4, False, True, "axi4lite")]
 SINGLE_TESTS = ["top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
                 "top_fault", "top_bad_input"]
 
-INPUTS = ("rst", "wb__cyc", "wb__stb", "wb__we", "wb__adr", "wb__dat_w", "wb__sel", "ref__valid",
-          "ref__payload", "fault_in", "sync_in")
-OUTPUTS = {"wb__ack": "wb_ack", "wb__dat_r": "wb_dat_r", "ref__ready": "ref_ready",
-           "upper": "upper", "lower": "lower", "adc_trigger": "adc_trigger",
-           "sync_out": "sync_out", "fault": "fault"}
+COMMON_INPUTS = ("rst", "ref__valid", "ref__payload", "fault_in", "sync_in")
+COMMON_OUTPUTS = {"ref__ready": "ref_ready", "upper": "upper", "lower": "lower",
+                  "adc_trigger": "adc_trigger", "sync_out": "sync_out", "fault": "fault"}
+
+
+def port_name(name: str) -> str:
+    """The Verilog port of a bus input or output of the model (``wb_ack`` -> ``wb__ack``)."""
+    for bus in ("wb_", "s_axi_"):
+        if name.startswith(bus):
+            return bus + "_" + name[len(bus):]
+    return name
 
 
 def make_model(p):
     return TopModel(p["phases"], p["width"], p["rule"], p["dead_min"], p["upper_active_low"],
-                    p["lower_active_low"])
+                    p["lower_active_low"], bus=p.get("bus", "wishbone"))
+
+
+class WishboneMaster:
+    """One operation at a time: ``cyc`` and ``stb`` raised together and held until ``ack``,
+    idle gaps between; random address, data and ``sel`` while idle."""
+
+    def __init__(self, rng):
+        self.rng, self.current, self.gap = rng, None, 0
+
+    def busy(self):
+        return self.current is not None
+
+    def inputs(self, ops):
+        rng = self.rng
+        if self.current is None and self.gap == 0 and ops:
+            self.current = ops.popleft()
+        adr, we, dat = self.current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
+        busy = int(self.current is not None)
+        return {"wb_cyc": busy, "wb_stb": busy, "wb_we": we, "wb_adr": adr, "wb_dat_w": dat,
+                "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
+
+    def observe(self, bus, out):
+        """The read data of an operation that completed this cycle (None for a write)."""
+        done = None
+        if self.current is not None and out["wb_ack"]:
+            done = [None if self.current[1] else out["wb_dat_r"]]
+            self.current, self.gap = None, self.rng.choice([0, 0, 1, 2])
+        elif self.current is None and self.gap:
+            self.gap -= 1
+        return done
+
+    def abort(self):
+        self.current, self.gap = None, 0
+
+
+class AxiLiteMaster:
+    """Accesses started in queue order, a write's AW and W (and a read's AR) raised after their
+    own random delays and held, with their payload, until taken; the next write's AW/W (read's
+    AR) may start while the previous one waits for its response, so responses meet
+    back-pressure with the next access ready; ``bready`` and ``rready`` at random; random
+    payloads on idle channels."""
+
+    def __init__(self, rng):
+        self.rng, self.writes, self.reads, self.gap = rng, deque(), deque(), 0
+
+    def busy(self):
+        return bool(self.writes or self.reads)
+
+    @staticmethod
+    def _addressing(ops, channels):
+        """The op of ``ops`` still in its address/data phase, if any (the newest)."""
+        return ops[-1] if ops and not set(channels) <= ops[-1]["done"] else None
+
+    def inputs(self, ops):
+        rng = self.rng
+        while self.gap == 0 and ops:
+            adr, we, dat = ops[0]
+            queue, channels = (self.writes, ("aw", "w")) if we else (self.reads, ("ar",))
+            if self._addressing(queue, channels) is not None or len(queue) >= 2:
+                break
+            ops.popleft()
+            queue.append({"adr": adr * 4 + rng.randrange(4), "dat": dat, "done": set(),
+                          "wait": {ch: rng.choice([0, 0, 0, 1, 3]) for ch in channels}})
+        w = self._addressing(self.writes, ("aw", "w"))
+        r = self._addressing(self.reads, ("ar",))
+
+        def raised(op, channel):
+            return int(op is not None and channel not in op["done"] and op["wait"][channel] == 0)
+
+        self.current = {"aw": w, "w": w, "ar": r}
+        self.raised = {ch: raised(op, ch) for ch, op in self.current.items()}
+        return {
+            "s_axi_awvalid": self.raised["aw"], "s_axi_wvalid": self.raised["w"],
+            "s_axi_arvalid": self.raised["ar"],
+            "s_axi_awaddr": w["adr"] if w else rng.randrange(256),
+            "s_axi_wdata": w["dat"] if w else rng.getrandbits(32),
+            "s_axi_araddr": r["adr"] if r else rng.randrange(256),
+            "s_axi_wstrb": rng.choice([0xF, 0xF, 0x3, 0x0]), "s_axi_awprot": rng.randrange(8),
+            "s_axi_arprot": rng.randrange(8),
+            "s_axi_bready": int(rng.random() < 0.6), "s_axi_rready": int(rng.random() < 0.6),
+        }
+
+    def observe(self, bus, out):
+        """The read data of the access that completed this cycle: ``[value]`` for a read,
+        ``[None]`` for a write, None when nothing completed (B and R together: the read's)."""
+        for ch, op in self.current.items():
+            if op is None or ch in op["done"]:
+                continue
+            if self.raised[ch] and out[f"s_axi_{ch}ready"]:
+                op["done"].add(ch)
+            elif not self.raised[ch]:
+                op["wait"][ch] -= 1
+        done = None
+        if out["s_axi_bvalid"] and bus["s_axi_bready"]:
+            assert self.writes and {"aw", "w"} <= self.writes[0]["done"], "B without a write"
+            self.writes.popleft()
+            done = [None]
+        if out["s_axi_rvalid"] and bus["s_axi_rready"]:
+            assert self.reads and "ar" in self.reads[0]["done"], "R without a read"
+            self.reads.popleft()
+            done = [out["s_axi_rdata"]]
+        if done is not None:
+            self.gap = self.rng.choice([0, 0, 0, 1, 2])
+        elif self.gap:
+            self.gap -= 1
+        return done
+
+    def abort(self):
+        self.writes.clear()
+        self.reads.clear()
+        self.gap = 0
+
+
+MASTERS = {"wishbone": WishboneMaster, "axi4lite": AxiLiteMaster}
 
 
 class Bench:
-    """Closed-loop stimulus for one TopModel: a Wishbone master (one operation at a time, held
-    until ``ack``, idle gaps between), an FOC-like stream source (holds a beat until accepted,
-    idles at random), and the fault / sync inputs. Records the inputs and the expected outputs
-    of every cycle, and the independent-check traces."""
+    """Closed-loop stimulus for one TopModel: a bus master of its front (operations queued and
+    issued in order, handshakes as the bus allows, idle gaps between), an FOC-like stream source
+    (holds a beat until accepted, idles at random), and the fault / sync inputs. Records the
+    inputs and the expected outputs of every cycle, and the independent-check traces."""
 
     def __init__(self, rng, model, prefix=""):
         self.rng, self.model, self.prefix = rng, model, prefix
         self.n = model.phases
         self.ops = deque()
-        self.current, self.gap = None, 0
+        self.master = MASTERS["wishbone" if "wb_cyc" in model.front.INPUTS else "axi4lite"](rng)
         self.offered = None
-        self.stim = {prefix + name: [] for name in INPUTS}
-        self.expected = {prefix + name: [] for name in OUTPUTS}
+        inputs = (*COMMON_INPUTS, *(port_name(k) for k in model.front.INPUTS))
+        outputs = {**{port_name(k): k for k in model.front.OUTPUTS}, **COMMON_OUTPUTS}
+        self.outputs = outputs
+        self.stim = {prefix + name: [] for name in inputs}
+        self.expected = {prefix + name: [] for name in outputs}
         self.trace = {k: [] for k in ("up", "lo", "dead", "kill", "rst", "adc_offset",
                                       "count_clear")}
-        self.reads = []          # (request cycle, address, value)
+        self.issued_reads = deque()  # (issue cycle, address) of reads not yet answered
+        self.reads = []          # (issue cycle, address, value)
+        self.last = {}           # the last cycle's inputs, held through the reset of the next run
         self.cycle = 0
         self.angle, self.step_angle, self.amplitude = rng.uniform(0, 6.3), 0.02, 0.5
 
@@ -66,7 +193,7 @@ class Bench:
         self.ops.append((address, 0, self.rng.getrandbits(32)))
 
     def idle(self):
-        return self.current is None and not self.ops
+        return not self.master.busy() and not self.ops
 
     def sine_beat(self):
         c = self.model.contract
@@ -78,46 +205,39 @@ class Bench:
     # ------------------------------------------------------------------ one clock
     def tick(self, rst=0, fault_in=0, sync_in=0, stream=True, source_rate=0.6):
         rng, m = self.rng, self.model
-        if self.current is None and self.gap == 0 and self.ops:
-            self.current = self.ops.popleft()
+        bus = self.master.inputs(self.ops)
         if self.offered is None and stream and rng.random() < source_rate:
             self.offered = self.sine_beat()
-        adr, we, dat = self.current if self.current else (rng.randrange(64), rng.randint(0, 1),
-                                                          rng.getrandbits(32))
-        busy = int(self.current is not None)
-        inputs = {"rst": rst, "wb__cyc": busy, "wb__stb": busy, "wb__we": we, "wb__adr": adr,
-                  "wb__dat_w": dat, "wb__sel": rng.choice([0xF, 0xF, 0x1, 0x0]),
-                  "ref__valid": int(self.offered is not None),
-                  "ref__payload": self.offered or [0] * self.n, "fault_in": fault_in,
-                  "sync_in": sync_in}
+        write, read = m.front.access(bus)
         t = self.trace
         t["dead"].append(m.dead)
         t["kill"].append(m.driver.fault_input)
         t["rst"].append(rst)
         t["adc_offset"].append(m.adc_offset)
-        t["count_clear"].append(int(bool(busy and we and adr == regs.CMD and not m.ack
-                                         and dat & regs.CMD_COUNT_CLEAR)))
+        t["count_clear"].append(int(not rst and write is not None and write[0] == regs.CMD
+                                    and bool(write[1] & regs.CMD_COUNT_CLEAR)))
         t["up"].append(m.driver.up)
         t["lo"].append(m.driver.lo)
-        out = m.step(rst=rst, wb_cyc=busy, wb_stb=busy, wb_we=we, wb_adr=adr, wb_dat_w=dat,
-                     wb_sel=inputs["wb__sel"], ref_valid=inputs["ref__valid"],
-                     ref=inputs["ref__payload"], fault_in=fault_in, sync_in=sync_in)
-        if inputs["ref__valid"] and out["ref_ready"] and not rst:
+        if read is not None and not rst:
+            self.issued_reads.append((self.cycle, read))
+        payload, ref_valid = self.offered or [0] * self.n, int(self.offered is not None)
+        out = m.step(rst=rst, ref_valid=ref_valid, ref=payload, fault_in=fault_in,
+                     sync_in=sync_in, **bus)
+        if ref_valid and out["ref_ready"] and not rst:
             self.offered = None
-        if self.current is not None and out["wb_ack"]:
-            if not we:
-                self.reads.append((self.cycle - 1, adr, out["wb_dat_r"]))
-            self.current = None
-            self.gap = rng.choice([0, 0, 1, 2])
-        elif self.current is None and self.gap:
-            self.gap -= 1
+        done = self.master.observe(bus, out)
+        if done is not None and done[0] is not None:
+            self.reads.append((*self.issued_reads.popleft(), done[0]))
         if rst:
-            self.current, self.gap = None, 0
+            self.master.abort()
+            self.issued_reads.clear()
+        self.last = {**bus, "fault_in": fault_in, "sync_in": sync_in}
+        inputs = {"rst": rst, "ref__valid": ref_valid, "ref__payload": pack(payload, m.width),
+                  "fault_in": fault_in, "sync_in": sync_in,
+                  **{port_name(k): v for k, v in bus.items()}}
         for name, value in inputs.items():
-            if name == "ref__payload":
-                value = pack(value, m.width)
             self.stim[self.prefix + name].append(value)
-        for port, key in OUTPUTS.items():
+        for port, key in self.outputs.items():
             self.expected[self.prefix + port].append(out[key])
         self.cycle += 1
         return out
@@ -159,12 +279,7 @@ def begin(p, rng, key="single", prefix=""):
 
 
 def finish(bench, key="single"):
-    s, px = bench.stim, bench.prefix
-    last = {"wb_cyc": s[px + "wb__cyc"][-1], "wb_stb": s[px + "wb__stb"][-1],
-            "wb_we": s[px + "wb__we"][-1], "wb_adr": s[px + "wb__adr"][-1],
-            "wb_dat_w": s[px + "wb__dat_w"][-1], "fault_in": s[px + "fault_in"][-1],
-            "sync_in": s[px + "sync_in"][-1]}
-    CARRY[key] = (bench.model, last)
+    CARRY[key] = (bench.model, bench.last)
     return bench.check_safety(bench.dt_run0)
 
 
@@ -374,12 +489,13 @@ async def top_bad_input(dut):
     await run_bench(dut, "top_bad_input", build_bad_input)
 
 
-@pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low"), CASES)
-def test_top(phases, width, rule, dead_min, upper_low, lower_low):
-    run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low),
+@pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low", "bus"),
+                         CASES)
+def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus):
+    run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low, bus=bus),
               "mdfqm_top", "test_top",
               {"phases": phases, "width": width, "rule": rule, "dead_min": dead_min,
-               "upper_active_low": upper_low, "lower_active_low": lower_low},
+               "upper_active_low": upper_low, "lower_active_low": lower_low, "bus": bus},
               testcase=SINGLE_TESTS)
 
 
@@ -482,6 +598,7 @@ def test_top_pair():
     ({"upper_active_low": 1}, "upper_active_low must be a bool, not 1"),
     ({"lower_active_low": "low"}, "lower_active_low must be a bool, not 'low'"),
     ({"formal": None}, "formal must be a bool, not None"),
+    ({"bus": "apb"}, "bus must be one of ('wishbone', 'axi4lite'), not 'apb'"),
 ])
 def test_top_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:
@@ -506,7 +623,9 @@ def test_docs_port_table_matches_the_signature():
         cells = [c.strip().strip("`") for c in line.strip().strip("|").split("|")]
         if len(cells) == 4 and cells[1] in ("in", "out"):
             documented.append((cells[0], cells[1]))
-    top = MdfqmTop(3, 16)
-    ports = [("__".join(map(str, path)), "in" if member.flow == In else "out")
-             for path, member, _ in top.signature.flatten(top)]
-    assert sorted(documented) == sorted([("clk", "in"), ("rst", "in"), *ports])
+    ports = {("clk", "in"), ("rst", "in")}
+    for bus in ("wishbone", "axi4lite"):
+        top = MdfqmTop(3, 16, bus=bus)
+        ports |= {("__".join(map(str, path)), "in" if member.flow == In else "out")
+                  for path, member, _ in top.signature.flatten(top)}
+    assert sorted(documented) == sorted(ports)

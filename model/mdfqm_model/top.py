@@ -1,24 +1,40 @@
-"""Clock-level model of the drop-in top: core + gate driver + Wishbone register file + switching
-counters + ADC trigger. The register map is :mod:`mdfqm_spec.regmap` (the gateware builds its
-register file from it, ``docs/top.md`` documents it, a test checks the table there).
+"""Clock-level model of the drop-in top: core + gate driver + register file behind a bus front
+(Wishbone classic or AXI4-Lite) + switching counters + ADC trigger. The register map is
+:mod:`mdfqm_spec.regmap` (the gateware builds its register file from it, ``docs/top.md``
+documents it, a test checks the table there).
 
 The core's algorithm is not repeated here: :class:`TopModel` composes
 :class:`mdfqm_model.clock.CoreModel` and :class:`mdfqm_model.driver.GateDriverModel`.
 
-Wishbone classic slave (32-bit data, word addresses, ``ADDR_WIDTH`` bits)
--------------------------------------------------------------------------
-A *request* is a cycle with ``cyc & stb & ~ack``. Its write takes effect at the end of that
-cycle (visible in the next), ``ack`` is high in the next cycle for one clock (registered), and
-``dat_r`` in that cycle holds the register read in the request cycle (0 after a write or when
-no request). No stalls, no ERR/RTY; ``sel`` is accepted and ignored (every write writes the
-whole register: use 32-bit accesses). A master holding ``stb`` through the ``ack`` cycle is not
-seen twice: the cycle with ``ack`` high is never a request.
+The register bus (:mod:`mdfqm_spec.bus`)
+----------------------------------------
+Either front issues *accesses* to the register file: a write issued in a cycle takes effect at
+the end of it (visible in the next), a read issued in a cycle returns the registers of that
+cycle.
+
+- Wishbone classic (:class:`WishboneFrontModel`; 32-bit data, word addresses, ``ADDR_WIDTH``
+  bits): a *request* is a cycle with ``cyc & stb & ~ack``; it is the access. ``ack`` is high in
+  the next cycle for one clock (registered), and ``dat_r`` in that cycle holds the register read
+  in the request cycle (0 after a write or when no request). No stalls, no ERR/RTY; ``sel`` is
+  accepted and ignored (every write writes the whole register: use 32-bit accesses). A master
+  holding ``stb`` through the ``ack`` cycle is not seen twice: the ``ack`` cycle is never a
+  request.
+- AXI4-Lite (:class:`AxiLiteFrontModel`; byte addresses, ``AXI_ADDR_WIDTH`` bits, the low two
+  ignored): holding registers ``aw_full``/``w_full``/``ar_full``; ``awready = ~aw_full``,
+  ``wready = ~w_full``, ``arready = ~ar_full``. A write is issued in a cycle with
+  ``aw_full & w_full & (~bvalid | bready)``: both holding registers empty and ``bvalid`` (with
+  ``bresp``) is high from the next cycle until a cycle with ``bready``. A read is issued in a
+  cycle with ``ar_full & (~rvalid | rready)``: ``rvalid``, ``rdata`` (the register read) and
+  ``rresp`` from the next cycle until ``rready``. Otherwise a holding register fills in the
+  cycle after its channel's handshake. Responses: OKAY, or SLVERR for a word that holds no
+  register. ``wstrb`` and ``*prot`` are ignored.
 
 Write clamps (every value of every field is legal; nothing wraps): unsigned fields saturate at
 their maximum (``min(value, max)`` of the 32-bit word); ``DEAD`` is also raised to the
 floor ``dead_min``; ``REF[i]`` takes the word as signed 32-bit and saturates it into the
 ``width``-bit code range; ``CTRL`` keeps its two defined bits. Writes to read-only or unmapped
-addresses are acknowledged and ignored; unmapped addresses read 0.
+addresses are acknowledged and ignored (AXI4-Lite: SLVERR for unmapped ones); unmapped addresses
+read 0.
 
 Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
 -------------------------------------------------------------------------------
@@ -42,8 +58,15 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
 
 from __future__ import annotations
 
-import numpy as np
+from typing import ClassVar
 
+from mdfqm_spec.bus import (
+    AXI_ADDR_WIDTH,
+    AXI_RESP_OKAY,
+    AXI_RESP_SLVERR,
+    mapped_words,
+    validate_bus,
+)
 from mdfqm_spec.contract import TIME_WIDTH, validate_dead_min
 from mdfqm_spec.regmap import (
     ADC_COUNTER_WIDTH,
@@ -84,20 +107,104 @@ from mdfqm_spec.regmap import (
 
 from .clock import CoreModel
 from .driver import GateDriverModel
-from .inputs import check_bit
+from .inputs import check_bit, check_uint
 
-__all__ = ["TOP_OUTPUTS", "TopModel"]
+__all__ = ["TOP_OUTPUTS", "AxiLiteFrontModel", "TopModel", "WishboneFrontModel"]
 
-#: per-cycle outputs of :meth:`TopModel.step`
-TOP_OUTPUTS = ("wb_ack", "wb_dat_r", "ref_ready", "upper", "lower", "adc_trigger", "sync_out",
-               "fault")
+#: per-cycle outputs of :meth:`TopModel.step` besides the bus front's (``front.OUTPUTS``)
+TOP_OUTPUTS = ("ref_ready", "upper", "lower", "adc_trigger", "sync_out", "fault")
 
 
-def _u32(value, name):
-    if (isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer))
-            or not 0 <= value < (1 << 32)):
-        raise ValueError(f"{name} must be an unsigned 32-bit integer, not {value!r}")
-    return int(value)
+class WishboneFrontModel:
+    """The Wishbone-classic front (see the module docstring): inputs ``wb_*``, outputs
+    ``wb_ack`` and ``wb_dat_r``."""
+
+    #: input name -> bits
+    INPUTS: ClassVar[dict] = {"wb_cyc": 1, "wb_stb": 1, "wb_we": 1, "wb_adr": ADDR_WIDTH,
+                              "wb_dat_w": 32, "wb_sel": 4}
+    OUTPUTS = ("wb_ack", "wb_dat_r")
+
+    def __init__(self, phases: int):
+        self.reset()
+
+    def reset(self) -> None:
+        self.ack = 0
+        self.dat_r = 0
+
+    def outputs(self) -> dict:
+        return {"wb_ack": self.ack, "wb_dat_r": self.dat_r}
+
+    def access(self, bus: dict) -> tuple:
+        """``(write, read)`` issued this cycle: ``(address, data)`` or None, an address or None."""
+        request = bus["wb_cyc"] and bus["wb_stb"] and not self.ack
+        write = (bus["wb_adr"], bus["wb_dat_w"]) if request and bus["wb_we"] else None
+        read = bus["wb_adr"] if request and not bus["wb_we"] else None
+        return write, read
+
+    def advance(self, bus: dict, write, read, value: int) -> None:
+        self.ack = int(write is not None or read is not None)
+        self.dat_r = value if read is not None else 0
+
+
+class AxiLiteFrontModel:
+    """The AXI4-Lite front (see the module docstring): inputs and outputs ``s_axi_*``."""
+
+    INPUTS: ClassVar[dict] = {
+        "s_axi_awaddr": AXI_ADDR_WIDTH, "s_axi_awprot": 3, "s_axi_awvalid": 1,
+        "s_axi_wdata": 32, "s_axi_wstrb": 4, "s_axi_wvalid": 1, "s_axi_bready": 1,
+        "s_axi_araddr": AXI_ADDR_WIDTH, "s_axi_arprot": 3, "s_axi_arvalid": 1, "s_axi_rready": 1}
+    OUTPUTS = ("s_axi_awready", "s_axi_wready", "s_axi_bvalid", "s_axi_bresp", "s_axi_arready",
+               "s_axi_rvalid", "s_axi_rdata", "s_axi_rresp")
+
+    def __init__(self, phases: int):
+        self.mapped = mapped_words(phases)
+        self.reset()
+
+    def reset(self) -> None:
+        self.aw_full = self.w_full = self.ar_full = 0
+        self.aw_adr = self.ar_adr = self.w_data = 0
+        self.bvalid = self.bresp = 0
+        self.rvalid = self.rdata = self.rresp = 0
+
+    def outputs(self) -> dict:
+        return {"s_axi_awready": 1 - self.aw_full, "s_axi_wready": 1 - self.w_full,
+                "s_axi_bvalid": self.bvalid, "s_axi_bresp": self.bresp,
+                "s_axi_arready": 1 - self.ar_full, "s_axi_rvalid": self.rvalid,
+                "s_axi_rdata": self.rdata, "s_axi_rresp": self.rresp}
+
+    def access(self, bus: dict) -> tuple:
+        write = read = None
+        if self.aw_full and self.w_full and (not self.bvalid or bus["s_axi_bready"]):
+            write = (self.aw_adr, self.w_data)
+        if self.ar_full and (not self.rvalid or bus["s_axi_rready"]):
+            read = self.ar_adr
+        return write, read
+
+    def _resp(self, address: int) -> int:
+        return AXI_RESP_OKAY if address in self.mapped else AXI_RESP_SLVERR
+
+    def advance(self, bus: dict, write, read, value: int) -> None:
+        if write is not None:
+            self.aw_full = self.w_full = 0
+            self.bvalid, self.bresp = 1, self._resp(self.aw_adr)
+        else:
+            if bus["s_axi_awvalid"] and not self.aw_full:
+                self.aw_full, self.aw_adr = 1, bus["s_axi_awaddr"] >> 2
+            if bus["s_axi_wvalid"] and not self.w_full:
+                self.w_full, self.w_data = 1, bus["s_axi_wdata"]
+            if bus["s_axi_bready"]:
+                self.bvalid = 0
+        if read is not None:
+            self.ar_full = 0
+            self.rvalid, self.rdata, self.rresp = 1, value, self._resp(self.ar_adr)
+        else:
+            if bus["s_axi_arvalid"] and not self.ar_full:
+                self.ar_full, self.ar_adr = 1, bus["s_axi_araddr"] >> 2
+            if bus["s_axi_rready"]:
+                self.rvalid = 0
+
+
+FRONTS = {"wishbone": WishboneFrontModel, "axi4lite": AxiLiteFrontModel}
 
 
 class TopModel:
@@ -105,8 +212,9 @@ class TopModel:
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = DEFAULT_DEAD_MIN, upper_active_low: bool = False,
-                 lower_active_low: bool = False):
+                 lower_active_low: bool = False, bus: str = "wishbone"):
         validate_top_phases(phases)
+        self.front = FRONTS[validate_bus(bus)](phases)
         validate_dead_min(dead_min, TIME_WIDTH)
         self.core = CoreModel(phases, width, rule)
         self.driver = GateDriverModel(phases, dead_min, TIME_WIDTH, upper_active_low,
@@ -131,8 +239,7 @@ class TopModel:
         self.ref = [0] * n
         self.snapshot = [0] * n
         self.ref_pending = 0
-        self.ack = 0
-        self.dat_r = 0
+        self.front.reset()
         self.events = [0] * n
         self.total = 0
         self.adc_cnt = 0
@@ -201,25 +308,20 @@ class TopModel:
     def ref_ready(self) -> int:
         return int(self.core.ref_ready and not self.ref_pending)
 
-    def step(self, rst=0, wb_cyc=0, wb_stb=0, wb_we=0, wb_adr=0, wb_dat_w=0, wb_sel=0xF,
-             ref_valid=0, ref=None, fault_in=0, sync_in=0) -> dict:
-        """Outputs visible during this cycle, then advance to the next one."""
+    def step(self, rst=0, ref_valid=0, ref=None, fault_in=0, sync_in=0, **bus) -> dict:
+        """Outputs visible during this cycle, then advance to the next one. ``bus`` holds the
+        front's inputs (``front.INPUTS``; each 0 when not given)."""
         rst = check_bit(rst, "rst")
-        wb_cyc, wb_stb = check_bit(wb_cyc, "wb_cyc"), check_bit(wb_stb, "wb_stb")
-        wb_we = check_bit(wb_we, "wb_we")
-        if (isinstance(wb_adr, (bool, np.bool_)) or not isinstance(wb_adr, (int, np.integer))
-                or not 0 <= wb_adr < (1 << ADDR_WIDTH)):
-            raise ValueError(f"wb_adr must be an unsigned {ADDR_WIDTH}-bit integer, not {wb_adr!r}")
-        wb_adr = int(wb_adr)
-        wb_dat_w = _u32(wb_dat_w, "wb_dat_w")
-        if isinstance(wb_sel, bool) or wb_sel not in range(16):
-            raise ValueError(f"wb_sel must be an unsigned 4-bit integer, not {wb_sel!r}")
+        unknown = sorted(set(bus) - set(self.front.INPUTS))
+        if unknown:
+            raise ValueError(f"unknown inputs {unknown} for the {type(self.front).__name__}")
+        bus = {name: check_uint(bus.get(name, 0), bits, name)
+               for name, bits in self.front.INPUTS.items()}
         ref_valid = check_bit(ref_valid, "ref_valid")
         fault_in, sync_in = check_bit(fault_in, "fault_in"), check_bit(sync_in, "sync_in")
 
-        req = wb_cyc and wb_stb and not self.ack
-        wr = req and wb_we
-        cmd = wb_dat_w if wr and wb_adr == CMD else 0
+        write, read = self.front.access(bus)
+        cmd = write[1] if write is not None and write[0] == CMD else 0
         port_ready = self.ref_ready
         core_ready = self.core.ref_ready
 
@@ -234,8 +336,7 @@ class TopModel:
             enable=int(bool(self.ctrl & CTRL_ENABLE)), dead=self.dead, min_pulse=self.min_pulse,
             fault_in=fault_in, fault_clear=int(bool(cmd & CMD_FAULT_CLEAR)))
         out = {
-            "wb_ack": self.ack,
-            "wb_dat_r": self.dat_r,
+            **self.front.outputs(),
             "ref_ready": port_ready,
             "upper": drv_out["upper"],
             "lower": drv_out["lower"],
@@ -246,7 +347,7 @@ class TopModel:
         if rst:
             self.reset()
             return out
-        rd = self.read(wb_adr, core_out, drv_out, up, lo) if req and not wb_we else 0
+        value = self.read(read, core_out, drv_out, up, lo) if read is not None else 0
 
         # reference arbitration (a commit wins over the clear of an accepted beat)
         if cmd & CMD_REF_COMMIT:
@@ -266,8 +367,7 @@ class TopModel:
         self.adc_cnt = min(elapsed + 1, (1 << ADC_COUNTER_WIDTH) - 1)
         self.adc = int(elapsed == self.adc_offset)
         # the bus
-        if wr:
-            self.write(wb_adr, wb_dat_w)
-        self.ack = int(req)
-        self.dat_r = rd
+        if write is not None:
+            self.write(*write)
+        self.front.advance(bus, write, read, value)
         return out

@@ -254,7 +254,8 @@ def test_rejects_bad_parameters(kwargs, message):
 @pytest.mark.parametrize(("kwargs", "message"), [
     ({"wb_adr": 64}, "wb_adr must be an unsigned 6-bit integer, not 64"),
     ({"wb_dat_w": -1}, "wb_dat_w must be an unsigned 32-bit integer, not -1"),
-    ({"wb_cyc": 2}, "wb_cyc must be 0 or 1, not 2"),
+    ({"wb_cyc": 2}, "wb_cyc must be an unsigned 1-bit integer, not 2"),
+    ({"s_axi_awvalid": 1}, "unknown inputs ['s_axi_awvalid'] for the WishboneFrontModel"),
     ({"fault_in": 3}, "fault_in must be 0 or 1, not 3"),
 ])
 def test_rejects_bad_inputs(kwargs, message):
@@ -278,3 +279,66 @@ def test_docs_register_table_matches_the_map():
         assert cells[2] == r.access, cells
         assert cells[3].strip("`") == r.reset, cells
 
+
+
+# ------------------------------------------------------------------ the AXI4-Lite front
+
+
+def axi(**kw):
+    return {f"s_axi_{k}": v for k, v in kw.items()}
+
+
+def test_axil_write_then_read_timing():
+    """AW and W in the same clock a: held from a + 1, the write issued in a + 1 (bready high),
+    visible in a + 2 with bvalid; a read's AR in b: issued in b + 1, rdata in b + 2."""
+    m = TopModel(3, 16, bus="axi4lite")
+    out = m.step(**axi(awaddr=regs.PERIOD * 4, awvalid=1, wdata=40, wvalid=1, bready=1))
+    assert out["s_axi_awready"] == out["s_axi_wready"] == 1 and out["s_axi_bvalid"] == 0
+    out = m.step(**axi(bready=1))                              # a + 1: issued
+    assert out["s_axi_awready"] == 0 and out["s_axi_bvalid"] == 0 and m.period == 40
+    out = m.step(**axi(bready=1))                              # a + 2: response
+    assert out["s_axi_bvalid"] == 1 and out["s_axi_bresp"] == 0 and out["s_axi_awready"] == 1
+    assert m.step(**axi(rready=1))["s_axi_bvalid"] == 0
+    m.step(**axi(araddr=regs.PERIOD * 4 + 3, arvalid=1))       # low address bits ignored
+    out = m.step(**axi(rready=0))
+    assert out["s_axi_arready"] == 0 and out["s_axi_rvalid"] == 0
+    for _ in range(3):                                         # held until rready
+        out = m.step(**axi(rready=0))
+        assert out["s_axi_rvalid"] == 1 and out["s_axi_rdata"] == 40
+    out = m.step(**axi(rready=1))
+    assert out["s_axi_rvalid"] == 1
+    assert m.step()["s_axi_rvalid"] == 0
+
+
+def test_axil_aw_and_w_apart_and_b_backpressure():
+    """W first, AW three clocks later: the write waits for both; a stalled B holds the next
+    write back (it is issued in the clock bready is high) and its payload stays put."""
+    m = TopModel(3, 16, bus="axi4lite")
+    m.step(**axi(wdata=regs.CTRL_ENABLE, wvalid=1))
+    for _ in range(3):
+        out = m.step(**axi(wvalid=1, wdata=7))                 # not taken again: wready low
+        assert out["s_axi_wready"] == 0 and m.ctrl == 0
+    m.step(**axi(awaddr=regs.CTRL * 4, awvalid=1))
+    m.step()                                                   # issued
+    assert m.ctrl == regs.CTRL_ENABLE
+    m.step(**axi(awaddr=regs.OSR * 4, awvalid=1, wdata=5, wvalid=1))   # B pending, no bready
+    for _ in range(4):
+        out = m.step()
+        assert out["s_axi_bvalid"] == 1 and m.osr == 1         # second write held back
+    m.step(**axi(bready=1))                                    # old B taken, new write issued
+    assert m.osr == 5
+    out = m.step()
+    assert out["s_axi_bvalid"] == 1
+
+
+def test_axil_unmapped_words_answer_slverr_and_read_zero():
+    m = TopModel(3, 16, bus="axi4lite")
+    for word, resp in ((0x0D, 2), (regs.REF_BASE + 3, 2), (regs.EVENTS_BASE + 2, 0), (0x3F, 2),
+                       (regs.ID, 0)):
+        m.step(**axi(araddr=word * 4, arvalid=1, awaddr=word * 4, awvalid=1, wvalid=1,
+                     wdata=0xFFFFFFFF))
+        m.step(**axi(rready=1, bready=1))
+        out = m.step(**axi(rready=1, bready=1))
+        assert out["s_axi_rresp"] == resp and out["s_axi_bresp"] == resp, word
+        assert out["s_axi_rdata"] == (regs.ID_VALUE if word == regs.ID else 0), word
+    assert m.period == m.latency and m.ctrl == 0               # nothing written anywhere

@@ -1,7 +1,7 @@
-"""The drop-in top: MDFQM core + gate driver + Wishbone register file + switching counters +
-ADC trigger. Every bit on every clock follows :class:`mdfqm_model.top.TopModel`; the register
-map (addresses, bits, reset values, clamps) is imported from :mod:`mdfqm_spec.regmap` and
-documented in ``docs/top.md``.
+"""The drop-in top: MDFQM core + gate driver + register file behind a Wishbone-classic or an
+AXI4-Lite front + switching counters + ADC trigger. Every bit on every clock follows
+:class:`mdfqm_model.top.TopModel`; the register map (addresses, bits, reset values, clamps) is
+imported from :mod:`mdfqm_spec.regmap` and documented in ``docs/top.md``.
 """
 
 from amaranth import Cat, Module, Mux, ResetSignal, Signal, signed
@@ -10,13 +10,15 @@ from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_spec import regmap
+from mdfqm_spec.bus import AXI_ADDR_WIDTH, mapped_words, validate_bus
 from mdfqm_spec.contract import TIME_WIDTH, Contract, loop_latency, validate_dead_min, validate_rule
 from mdfqm_spec.regmap import info_word, validate_top_phases
 from mdfqm_spec.validate import validate_bool
 
-from .bus import WishboneSignature
+from .bus import AxiLiteSignature, WishboneSignature
 from .core import MdfqmCore
 from .driver import GateDriver
+from .fronts import AxiLiteFront, WishboneFront
 
 __all__ = ["MdfqmTop"]
 
@@ -29,15 +31,19 @@ class MdfqmTop(wiring.Component):
     """An N-phase MDFQM modulator with a safe gate driver, for a soft CPU or an FOC block.
 
     Between the FOC loop (a reference per phase) and the gate-driver chip (an upper and a lower
-    gate per leg). Runtime settings live in a Wishbone classic register file
-    (``docs/top.md``: register map, clamps, timing of one update).
+    gate per leg). Runtime settings live in a register file behind a Wishbone-classic or an
+    AXI4-Lite slave (``docs/top.md``: register map, clamps, bus timing, timing of one update).
 
     Ports
     -----
     wb : In(WishboneSignature(6))
-        Register bus, slave side: ``wb__cyc wb__stb wb__we wb__adr[5:0] wb__dat_w[31:0]
+        With ``bus="wishbone"``: ``wb__cyc wb__stb wb__we wb__adr[5:0] wb__dat_w[31:0]
         wb__sel[3:0]`` in, ``wb__dat_r[31:0] wb__ack`` out. ``ack`` is registered, one clock
         after the request; ``dat_r`` is valid with it. ``sel`` is ignored.
+    s_axi : In(AxiLiteSignature(8))
+        With ``bus="axi4lite"`` (instead of ``wb``): the five AXI4-Lite channels,
+        ``s_axi__awaddr[7:0]`` (byte addresses) ... ``s_axi__rready``; see
+        :class:`~.fronts.AxiLiteFront`.
     ref : In(stream.Signature(ArrayLayout(signed(width), phases)))
         Direct reference input for an FOC block in the same fabric (``ref__valid``,
         ``ref__ready``, ``ref__payload``; ``2**(width-2)`` codes per Vdc). ``ready`` is
@@ -72,8 +78,11 @@ class MdfqmTop(wiring.Component):
         power stage's turn-off time.
     upper_active_low, lower_active_low : bool
         Pin polarity per side (fixed at elaboration: the reset level must already be "off").
+    bus : "wishbone" | "axi4lite"
+        The register bus's front.
     formal : bool
-        Emit the safety ``Assert`` statements (not in the drop-in Verilog).
+        Emit the safety ``Assert`` statements and the bus front's handshake rules (not in the
+        drop-in Verilog).
 
     Attributes
     ----------
@@ -83,8 +92,9 @@ class MdfqmTop(wiring.Component):
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
-                 lower_active_low: bool = False, formal: bool = False):
+                 lower_active_low: bool = False, bus: str = "wishbone", formal: bool = False):
         validate_top_phases(phases)
+        self.bus = validate_bus(bus)
         self.contract = Contract(phases, width)
         self.rule = validate_rule(rule, phases)
         self.dead_min = validate_dead_min(dead_min, TIME_WIDTH)
@@ -94,7 +104,8 @@ class MdfqmTop(wiring.Component):
         self.phases, self.width = phases, width
         self.latency = loop_latency(phases, rule)
         super().__init__({
-            "wb": In(WishboneSignature(regmap.ADDR_WIDTH)),
+            **({"wb": In(WishboneSignature(regmap.ADDR_WIDTH))} if bus == "wishbone" else
+               {"s_axi": In(AxiLiteSignature(AXI_ADDR_WIDTH))}),
             "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
             "fault_in": In(1),
             "sync_in": In(1),
@@ -113,7 +124,14 @@ class MdfqmTop(wiring.Component):
         m.submodules.driver = driver = GateDriver(
             n, self.dead_min, TIME_WIDTH, self.upper_active_low, self.lower_active_low,
             formal=self.formal)
-        wb = self.wb
+        if self.bus == "wishbone":
+            m.submodules.front = front = WishboneFront(regmap.ADDR_WIDTH, formal=self.formal)
+            wiring.connect(m, wiring.flipped(self.wb), front.bus)
+        else:
+            m.submodules.front = front = AxiLiteFront(regmap.ADDR_WIDTH, mapped_words(n),
+                                                      formal=self.formal)
+            wiring.connect(m, wiring.flipped(self.s_axi), front.bus)
+        port = front.port
 
         # ---------------------------------------------------------------- registers
         ctrl = Signal(2)
@@ -131,23 +149,18 @@ class MdfqmTop(wiring.Component):
         adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
         adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
-        # ---------------------------------------------------------------- bus
-        req = Signal()
-        wr = Signal()
+        # ---------------------------------------------------------------- register port
         cmd = Signal(3)
-        m.d.comb += [
-            req.eq(wb.cyc & wb.stb & ~wb.ack),
-            wr.eq(req & wb.we),
-            cmd.eq(Mux(wr & (wb.adr == regmap.CMD), wb.dat_w[:3], 0)),
-        ]
+        m.d.comb += cmd.eq(Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:3], 0))
         ref_commit = cmd[0]
         fault_clear = cmd[1]
         count_clear = cmd[2]
 
-        word = wb.dat_w
+        word = port.w_data
         code = word.as_signed()
+
         def written(address):
-            return wr & (wb.adr == address)
+            return port.w_en & (port.w_adr == address)
 
         with m.If(written(regmap.CTRL)):
             m.d.sync += ctrl.eq(word[:2])
@@ -171,7 +184,7 @@ class MdfqmTop(wiring.Component):
                      core.saturated, core.period_clamped)
         info = info_word(n, self.width, self.rule, self.upper_active_low,
                          self.lower_active_low, self.latency)
-        with m.Switch(wb.adr):
+        with m.Switch(port.r_adr):
             with m.Case(regmap.ID):
                 m.d.comb += rd.eq(regmap.ID_VALUE)
             with m.Case(regmap.INFO):
@@ -203,10 +216,7 @@ class MdfqmTop(wiring.Component):
                     m.d.comb += rd.eq(events[i])
             with m.Default():
                 m.d.comb += rd.eq(0)
-        m.d.sync += [
-            wb.ack.eq(req),
-            wb.dat_r.eq(Mux(req & ~wb.we, rd, 0)),
-        ]
+        m.d.comb += port.r_data.eq(rd)
 
         # ---------------------------------------------------------------- reference input
         m.d.comb += [

@@ -19,7 +19,10 @@ from pathlib import Path  # noqa: E402
 
 
 def main(argv=None) -> int:
-    from .report import Progress, make_plots, markdown, write_csv
+    from .document import markdown
+    from .plots import make_plots
+    from .progress import Progress
+    from .results_csv import write_csv
     from .sweeps import Config, make_jobs, run_jobs
 
     p = argparse.ArgumentParser(

@@ -7,7 +7,7 @@ import pytest
 
 from mdfqm_spec.contract import Contract
 from tools.analysis.metrics import PWave, distortion
-from tools.analysis.report import Progress
+from tools.analysis.progress import Progress
 from tools.analysis.signals import (
     bbit_method,
     ideal,
