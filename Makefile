@@ -39,6 +39,7 @@ $(STAMP): pyproject.toml host/pyproject.toml requirements.lock
 
 generate: $(STAMP)
 	$(PY) -m mdfqm_gateware.dropin --out build/generated
+	$(PY) -m tools.ipxact_component --out build/generated
 
 bitstream: $(STAMP)
 	$(PY) -m boards.build --board $(BOARD)
