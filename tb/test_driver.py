@@ -16,7 +16,8 @@ from mdfqm_gateware.driver import GateDriver, LegDriver
 from mdfqm_model.driver import DRIVER_OUTPUTS, GateDriverModel, check_gate_safety
 
 # (phases, dead_min, time_width, upper_active_low, lower_active_low)
-CASES = [(3, 1, 16, False, False), (5, 4, 16, True, False), (6, 2, 6, True, True)]
+CASES = [(3, 1, 16, False, False), (5, 4, 16, True, False), (6, 2, 6, True, True),
+         (3, 3, 16, False, True)]           # every pair of pin polarities
 
 INPUTS = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear")
 
