@@ -58,8 +58,8 @@ class UpdateSequencer(wiring.Component):
     long : Out(1)
         The current update is long (registered).
     p_lat : Out(period_width)
-        Period P of the current update, after the clamp (registered; valid from the second
-        cycle of the update on).
+        Period P of the current update, after the clamp (registered twice: valid from the third
+        clock of the update on, ``phase >= 2``).
     mode_clamped : Out(1)
         The last start's ``mode`` was illegal or its ``bits`` was clamped (registered).
 
@@ -189,7 +189,7 @@ class UpdateSequencer(wiring.Component):
                          Mux(long_now, Array(Const(v - 3, width) for v in table)[b_now],
                              short - 3),
                          floor - 1)),
-            # P of the update, from the second cycle of the update on
+            # P of the update, from the third clock of the update on (phase >= 2)
             self.p_lat.eq(Mux(period_lat < minimum, minimum, period_lat)),
         ]
         with m.If(self.start):
