@@ -21,16 +21,17 @@ from mdfqm_model.driver import check_gate_safety
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
 
-# (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus)
-CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone"),
-         (5, 16, "exact_nearest", 5, True, True, "wishbone"),
-         (3, 16, "largest_duty", 4, False, True, "axi4lite")]
+# (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus, counter_width)
+CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone", 32),
+         (5, 16, "exact_nearest", 5, True, True, "wishbone", 32),
+         (3, 16, "largest_duty", 4, False, True, "axi4lite", 8)]
 SINGLE_TESTS = ["top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
-                "top_fault", "top_bad_input"]
+                "top_fault", "top_interrupt", "top_bad_input"]
 
 COMMON_INPUTS = ("rst", "ref__valid", "ref__payload", "fault_in", "sync_in")
 COMMON_OUTPUTS = {"ref__ready": "ref_ready", "upper": "upper", "lower": "lower",
-                  "adc_trigger": "adc_trigger", "sync_out": "sync_out", "fault": "fault"}
+                  "adc_trigger": "adc_trigger", "sync_out": "sync_out", "fault": "fault",
+                  "irq": "irq"}
 
 
 def port_name(name: str) -> str:
@@ -43,7 +44,8 @@ def port_name(name: str) -> str:
 
 def make_model(p):
     return TopModel(p["phases"], p["width"], p["rule"], p["dead_min"], p["upper_active_low"],
-                    p["lower_active_low"], bus=p.get("bus", "wishbone"))
+                    p["lower_active_low"], bus=p.get("bus", "wishbone"),
+                    counter_width=p.get("counter_width", 32))
 
 
 class WishboneMaster:
@@ -424,6 +426,49 @@ def build_fault(b, rng, p):
         b.tick(fault_in=fault_in)
 
 
+def build_interrupt(b, rng, p):
+    """Firmware serving the interrupt: every source enabled at times, IRQ_STATUS read and cleared
+    when irq is high (also in the clock of a new event), faults, sampling ticks, counters run
+    past their width (8 bits in one configuration: it wraps every 256 turn-ons)."""
+    configure(b, period=10, dead=2, osr=2)
+    b.write(regs.IRQ_ENABLE, regs.IRQ_MASK)
+    b.run_until_idle()
+    b.amplitude, b.step_angle = 0.55, 0.08          # busy legs: hundreds of turn-ons
+    served, clear_due = 0, False
+    for cycle in range(8000):
+        fault_in = int(cycle % 1500 in range(700, 706))
+        clear_due |= cycle % 1500 == 720
+        if b.idle():
+            if clear_due:
+                b.write(regs.CMD, regs.CMD_FAULT_CLEAR)
+                clear_due = False
+            elif b.expected[b.prefix + "irq"] and b.expected[b.prefix + "irq"][-1]:
+                b.read(regs.IRQ_STATUS)
+                # (COUNTER_WRAP is left set: the final read must see it)
+                b.write(regs.IRQ_STATUS, rng.choice([regs.IRQ_FAULT | regs.IRQ_SAMPLE,
+                                                     regs.IRQ_SAMPLE, 0xFFFFFFFD]))
+                served += 1
+            elif rng.random() < 0.01:
+                b.write(regs.IRQ_ENABLE, rng.choice([0, regs.IRQ_SAMPLE, regs.IRQ_FAULT | 2,
+                                                     regs.IRQ_MASK, 0xFFFFFFFF]))
+                b.read(regs.IRQ_ENABLE)
+        b.tick(fault_in=fault_in)
+    assert served > 20, "the interrupt was never served"
+    raised = [bool(v) for v in b.expected[b.prefix + "irq"]]
+    assert any(raised) and not all(raised)
+    b.read(regs.IRQ_STATUS)
+    b.run_until_idle()
+    seen = 0
+    for _, address, value in b.reads:
+        seen |= value if address == regs.IRQ_STATUS else 0
+    up, lo = np.array(b.trace["up"]), np.array(b.trace["lo"])
+    on = up | lo
+    turn_ons = sum(bin(int(v)).count("1") for v in on[1:] & ~on[:-1])
+    wraps = turn_ons >= (1 << p["counter_width"]) + 2 * b.n     # some before the first clear
+    assert seen & regs.IRQ_MASK == (regs.IRQ_MASK if wraps else regs.IRQ_FAULT | regs.IRQ_SAMPLE)
+    assert wraps or p["counter_width"] == 32, f"only {turn_ons} turn-ons: no counter wrapped"
+
+
 def build_bad_input(b, rng, p):
     """Any value to any register, in any order, with resets, faults and sync pulses at random:
     the gates stay safe. For most of the run the timing registers get small values (below the
@@ -484,18 +529,26 @@ async def top_fault(dut):
 
 
 @cocotb.test()
+async def top_interrupt(dut):
+    """IRQ_ENABLE / IRQ_STATUS served like firmware does; faults, ticks and counter wraps."""
+    await run_bench(dut, "top_interrupt", build_interrupt)
+
+
+@cocotb.test()
 async def top_bad_input(dut):
     """Random addresses and values, resets, faults and sync pulses: the gates stay safe."""
     await run_bench(dut, "top_bad_input", build_bad_input)
 
 
-@pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low", "bus"),
-                         CASES)
-def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus):
-    run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low, bus=bus),
+@pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low", "bus",
+                          "counter_width"), CASES)
+def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus, counter_width):
+    run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low, bus=bus,
+                               counter_width=counter_width),
               "mdfqm_top", "test_top",
               {"phases": phases, "width": width, "rule": rule, "dead_min": dead_min,
-               "upper_active_low": upper_low, "lower_active_low": lower_low, "bus": bus},
+               "upper_active_low": upper_low, "lower_active_low": lower_low, "bus": bus,
+               "counter_width": counter_width},
               testcase=SINGLE_TESTS)
 
 
@@ -599,6 +652,7 @@ def test_top_pair():
     ({"lower_active_low": "low"}, "lower_active_low must be a bool, not 'low'"),
     ({"formal": None}, "formal must be a bool, not None"),
     ({"bus": "apb"}, "bus must be one of ('wishbone', 'axi4lite'), not 'apb'"),
+    ({"counter_width": 7}, "counter_width must be an integer in [8, 32], not 7"),
 ])
 def test_top_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:

@@ -1,8 +1,8 @@
 # amaranth: UnusedElaboratable=no
 """IP-XACT *component* description of the AXI4-Lite drop-in top, for Vivado's IP catalogue and
-block designs: the ports, the ``S_AXI`` slave interface (Xilinx ``aximm`` / ``aximm_rtl``, protocol
-AXI4LITE), the clock and reset interfaces, the memory map (from :mod:`mdfqm_spec.regmap`) and the
-Verilog file set.
+block designs: the ports, the ``S_AXI`` slave interface (Xilinx ``aximm`` / ``aximm_rtl``,
+protocol AXI4LITE), the level-high interrupt, the clock and reset interfaces, the memory map
+(from :mod:`mdfqm_spec.regmap`) and the Verilog file set.
 
     python -m tools.ipxact_component --out build/generated [--phases 3 --width 16]
 
@@ -94,6 +94,8 @@ def component(phases: int = 3, width: int = 16) -> ET.ElementTree:
                     ("ADDR_WIDTH", AXI_ADDR_WIDTH)])
     _bus_interface(interfaces, "RST", ("signal", "reset"), "reset_rtl", "slave",
                    [("RST", "rst")], [("POLARITY", "ACTIVE_HIGH")])
+    _bus_interface(interfaces, "IRQ", ("signal", "interrupt"), "interrupt_rtl", "master",
+                   [("INTERRUPT", "irq")], [("SENSITIVITY", "LEVEL_HIGH")])
     _bus_interface(interfaces, "CLK", ("signal", "clock"), "clock_rtl", "slave",
                    [("CLK", "clk")], [("ASSOCIATED_BUSIF", "S_AXI"), ("ASSOCIATED_RESET", "rst")])
 

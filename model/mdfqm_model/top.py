@@ -51,6 +51,14 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   cycle, ``event`` being the driver's turn-on strobes (one per turn-on of either switch of a
   leg: in complementary switching, one per change of the leg's state). 32 bits, wrapping.
   ``CMD.COUNT_CLEAR`` zeroes them all (the strobes of that cycle are not counted).
+- Interrupt: ``IRQ_STATUS`` bit ``k`` is set in the clock after its event and stays until a
+  write of 1 to it (an event in the same clock as the clear wins): ``FAULT`` when the fault
+  latch is about to set (``fault_input & ~fault``), ``COUNTER_WRAP`` when ``EVENTS_TOTAL``
+  passes ``2**counter_width - 1`` (every per-leg counter wraps no earlier, being at most the
+  total since the last clear; not in a ``COUNT_CLEAR`` clock), ``SAMPLE`` in a sampling tick
+  (the core's ``sample``: the update that takes the next reference starts, so firmware can
+  write the following one). ``irq = |(IRQ_STATUS & IRQ_ENABLE)`` (registered: it follows both
+  registers in the same clock).
 - ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= min(elapsed + 1, 2**17 - 1)``;
   ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
   ``s`` the update start, and there is none when ``ADC_OFFSET >= P`` (the update period).
@@ -90,6 +98,12 @@ from mdfqm_spec.regmap import (
     ID,
     ID_VALUE,
     INFO,
+    IRQ_COUNTER_WRAP,
+    IRQ_ENABLE,
+    IRQ_FAULT,
+    IRQ_MASK,
+    IRQ_SAMPLE,
+    IRQ_STATUS,
     MIN_PULSE,
     OSR,
     PERIOD,
@@ -104,6 +118,7 @@ from mdfqm_spec.regmap import (
     info_word,
     validate_top_phases,
 )
+from mdfqm_spec.validate import validate_int
 
 from .clock import CoreModel
 from .driver import GateDriverModel
@@ -112,7 +127,7 @@ from .inputs import check_bit, check_uint
 __all__ = ["TOP_OUTPUTS", "AxiLiteFrontModel", "TopModel", "WishboneFrontModel"]
 
 #: per-cycle outputs of :meth:`TopModel.step` besides the bus front's (``front.OUTPUTS``)
-TOP_OUTPUTS = ("ref_ready", "upper", "lower", "adc_trigger", "sync_out", "fault")
+TOP_OUTPUTS = ("ref_ready", "upper", "lower", "adc_trigger", "sync_out", "fault", "irq")
 
 
 class WishboneFrontModel:
@@ -212,8 +227,10 @@ class TopModel:
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = DEFAULT_DEAD_MIN, upper_active_low: bool = False,
-                 lower_active_low: bool = False, bus: str = "wishbone"):
+                 lower_active_low: bool = False, bus: str = "wishbone",
+                 counter_width: int = COUNTER_WIDTH):
         validate_top_phases(phases)
+        self.counter_width = validate_int(counter_width, "counter_width", 8, COUNTER_WIDTH)
         self.front = FRONTS[validate_bus(bus)](phases)
         validate_dead_min(dead_min, TIME_WIDTH)
         self.core = CoreModel(phases, width, rule)
@@ -244,6 +261,8 @@ class TopModel:
         self.total = 0
         self.adc_cnt = 0
         self.adc = 0
+        self.irq_enable = 0
+        self.irq_status = 0
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -278,6 +297,10 @@ class TopModel:
             return self.total
         if address == GATES:
             return up | lo << 16
+        if address == IRQ_ENABLE:
+            return self.irq_enable
+        if address == IRQ_STATUS:
+            return self.irq_status
         if REF_BASE <= address < REF_BASE + n:
             return self.ref[address - REF_BASE] & 0xFFFFFFFF
         if EVENTS_BASE <= address < EVENTS_BASE + n:
@@ -299,6 +322,10 @@ class TopModel:
             self.min_pulse = min(value, 0xFFFF)
         elif address == ADC_OFFSET:
             self.adc_offset = min(value, 0xFFFF)
+        elif address == IRQ_ENABLE:
+            self.irq_enable = value & IRQ_MASK
+        elif address == IRQ_STATUS:
+            self.irq_status &= ~value
         elif REF_BASE <= address < REF_BASE + self.phases:
             signed = value - (1 << 32) if value >> 31 else value
             self.ref[address - REF_BASE] = min(max(signed, c.code_min), c.code_max)
@@ -343,6 +370,7 @@ class TopModel:
             "adc_trigger": self.adc,
             "sync_out": core_out["start"],
             "fault": drv_out["fault"],
+            "irq": int(bool(self.irq_status & self.irq_enable)),
         }
         if rst:
             self.reset()
@@ -356,18 +384,24 @@ class TopModel:
             self.ref_pending = 0
         # switching counters
         event = drv_out["event"]
+        wrapped = 0
         if cmd & CMD_COUNT_CLEAR:
             self.events, self.total = [0] * self.phases, 0
         else:
-            mask = (1 << COUNTER_WIDTH) - 1
+            mask = (1 << self.counter_width) - 1
             self.events = [(e + ((event >> i) & 1)) & mask for i, e in enumerate(self.events)]
+            wrapped = (self.total + bin(event).count("1")) >> self.counter_width
             self.total = (self.total + bin(event).count("1")) & mask
+        irq_events = ((IRQ_FAULT if drv_out["fault_input"] and not drv_out["fault"] else 0)
+                      | (IRQ_COUNTER_WRAP if wrapped else 0)
+                      | (IRQ_SAMPLE if core_out["sample"] else 0))
         # ADC trigger
         elapsed = 0 if core_out["start"] else self.adc_cnt
         self.adc_cnt = min(elapsed + 1, (1 << ADC_COUNTER_WIDTH) - 1)
         self.adc = int(elapsed == self.adc_offset)
-        # the bus
+        # the bus (a write-1-to-clear of IRQ_STATUS loses against an event of the same clock)
         if write is not None:
             self.write(*write)
+        self.irq_status |= irq_events
         self.front.advance(bus, write, read, value)
         return out

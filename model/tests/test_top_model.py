@@ -62,7 +62,7 @@ def test_reset_values_and_read_only_registers():
     assert bus.read(regs.OSR) == 1
     assert bus.read(regs.DEAD) == 7
     for address in (regs.MIN_PULSE, regs.ADC_OFFSET, regs.EVENTS_TOTAL, regs.GATES, regs.CMD,
-                    regs.REF_BASE, regs.EVENTS_BASE + 2, regs.REF_BASE + 3, 0x3F, 0x0D):
+                    regs.REF_BASE, regs.EVENTS_BASE + 2, regs.REF_BASE + 3, 0x3F, 0x0F):
         assert bus.read(address) == 0
     for address in (regs.ID, regs.INFO, regs.DEAD_MIN, regs.STATUS, regs.GATES,
                     regs.EVENTS_TOTAL, regs.EVENTS_BASE):
@@ -333,7 +333,7 @@ def test_axil_aw_and_w_apart_and_b_backpressure():
 
 def test_axil_unmapped_words_answer_slverr_and_read_zero():
     m = TopModel(3, 16, bus="axi4lite")
-    for word, resp in ((0x0D, 2), (regs.REF_BASE + 3, 2), (regs.EVENTS_BASE + 2, 0), (0x3F, 2),
+    for word, resp in ((0x0F, 2), (regs.REF_BASE + 3, 2), (regs.EVENTS_BASE + 2, 0), (0x3F, 2),
                        (regs.ID, 0)):
         m.step(**axi(araddr=word * 4, arvalid=1, awaddr=word * 4, awvalid=1, wvalid=1,
                      wdata=0xFFFFFFFF))
@@ -342,3 +342,54 @@ def test_axil_unmapped_words_answer_slverr_and_read_zero():
         assert out["s_axi_rresp"] == resp and out["s_axi_bresp"] == resp, word
         assert out["s_axi_rdata"] == (regs.ID_VALUE if word == regs.ID else 0), word
     assert m.period == m.latency and m.ctrl == 0               # nothing written anywhere
+
+
+# ------------------------------------------------------------------ the interrupt
+
+
+def test_irq_sources_enable_and_write_one_to_clear():
+    """Written from docs/top.md, "Interrupt": each source sets its IRQ_STATUS bit the clock after
+    its event, irq is the OR of IRQ_STATUS & IRQ_ENABLE, writing 1 clears, an event wins."""
+    m = TopModel(3, 16, dead_min=2, counter_width=8)
+    bus = Master(m)
+    assert bus.read(regs.IRQ_STATUS) == 0                   # the first tick's bit: next clock
+    assert bus.read(regs.IRQ_STATUS) & regs.IRQ_SAMPLE
+    bus.write(regs.IRQ_STATUS, 0xFFFFFFFF)
+    bus.write(regs.OSR, 200)                                # ticks 200 updates apart: rare
+    bus.run(m.latency * 2)
+    bus.write(regs.IRQ_STATUS, regs.IRQ_MASK)
+    status = bus.read(regs.IRQ_STATUS)
+    assert status & regs.IRQ_FAULT == 0 and bus.log[-1]["irq"] == 0
+    bus.write(regs.IRQ_ENABLE, 0xFFFFFFFF)
+    assert bus.read(regs.IRQ_ENABLE) == regs.IRQ_MASK
+    # a fault: the bit rises with the latch
+    outs = bus.run(3, fault_in=1)
+    outs += bus.run(2)
+    first = next(i for i, o in enumerate(outs) if o["fault"])
+    assert outs[first]["irq"] == 1 and outs[first - 1]["irq"] == 0
+    assert bus.read(regs.IRQ_STATUS) & regs.IRQ_FAULT
+    bus.write(regs.CMD, regs.CMD_FAULT_CLEAR)
+    bus.write(regs.IRQ_STATUS, regs.IRQ_FAULT)
+    assert bus.read(regs.IRQ_STATUS) & regs.IRQ_FAULT == 0
+    # counters of 8 bits wrap after 256 turn-ons: COUNTER_WRAP
+    bus.write(regs.IRQ_ENABLE, regs.IRQ_COUNTER_WRAP)
+    bus.write(regs.PERIOD, 8)
+    bus.write(regs.CTRL, regs.CTRL_ENABLE)
+    bus.write(regs.REF_BASE, 3000)
+    bus.write(regs.REF_BASE + 1, -3000)
+    bus.write(regs.CMD, regs.CMD_REF_COMMIT)
+    outs = bus.run(4000)
+    assert any(o["irq"] for o in outs) and bus.read(regs.IRQ_STATUS) & regs.IRQ_COUNTER_WRAP
+    assert bus.read(regs.EVENTS_TOTAL) < 256
+
+
+def test_irq_event_in_the_clock_of_its_clear_wins():
+    m = TopModel(3, 16, dead_min=2)
+    bus = Master(m)
+    bus.write(regs.IRQ_ENABLE, regs.IRQ_SAMPLE)
+    while m.core.phase != 0:                   # run to the clock before an update start
+        bus.tick()
+    # clear SAMPLE in the start (tick) clock itself: the new event wins
+    out = bus.tick(wb_cyc=1, wb_stb=1, wb_we=1, wb_adr=regs.IRQ_STATUS, wb_dat_w=regs.IRQ_SAMPLE)
+    assert out["wb_ack"] == 0
+    assert m.irq_status & regs.IRQ_SAMPLE and bus.tick()["irq"] == 1

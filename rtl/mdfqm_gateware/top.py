@@ -13,7 +13,7 @@ from mdfqm_spec import regmap
 from mdfqm_spec.bus import AXI_ADDR_WIDTH, mapped_words, validate_bus
 from mdfqm_spec.contract import TIME_WIDTH, Contract, loop_latency, validate_dead_min, validate_rule
 from mdfqm_spec.regmap import info_word, validate_top_phases
-from mdfqm_spec.validate import validate_bool
+from mdfqm_spec.validate import validate_bool, validate_int
 
 from .bus import AxiLiteSignature, WishboneSignature
 from .core import MdfqmCore
@@ -65,6 +65,8 @@ class MdfqmTop(wiring.Component):
         registers): wire it to the other instances' ``sync_in``.
     fault : Out(1)
         The fault latch (registered), for a LED or an interlock.
+    irq : Out(1)
+        Interrupt, level, active high (registered): ``IRQ_STATUS & IRQ_ENABLE`` not zero.
 
     Parameters
     ----------
@@ -80,6 +82,8 @@ class MdfqmTop(wiring.Component):
         Pin polarity per side (fixed at elaboration: the reset level must already be "off").
     bus : "wishbone" | "axi4lite"
         The register bus's front.
+    counter_width : int in [8, 32]
+        Bits of the switching counters (they wrap at ``2**counter_width``).
     formal : bool
         Emit the safety ``Assert`` statements and the bus front's handshake rules (not in the
         drop-in Verilog).
@@ -92,9 +96,12 @@ class MdfqmTop(wiring.Component):
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
-                 lower_active_low: bool = False, bus: str = "wishbone", formal: bool = False):
+                 lower_active_low: bool = False, bus: str = "wishbone",
+                 counter_width: int = regmap.COUNTER_WIDTH, formal: bool = False):
         validate_top_phases(phases)
         self.bus = validate_bus(bus)
+        self.counter_width = validate_int(counter_width, "counter_width", 8,
+                                          regmap.COUNTER_WIDTH)
         self.contract = Contract(phases, width)
         self.rule = validate_rule(rule, phases)
         self.dead_min = validate_dead_min(dead_min, TIME_WIDTH)
@@ -114,6 +121,7 @@ class MdfqmTop(wiring.Component):
             "adc_trigger": Out(1),
             "sync_out": Out(1),
             "fault": Out(1),
+            "irq": Out(1),
         })
 
     def elaborate(self, platform):
@@ -144,8 +152,11 @@ class MdfqmTop(wiring.Component):
         ref_regs = Signal(ref_layout)
         snapshot = Signal(ref_layout)
         ref_pending = Signal()
-        events = Signal(data.ArrayLayout(regmap.COUNTER_WIDTH, n))
-        total = Signal(regmap.COUNTER_WIDTH)
+        events = Signal(data.ArrayLayout(self.counter_width, n))
+        total = Signal(self.counter_width)
+        irq_bits = regmap.IRQ_MASK.bit_length()
+        irq_enable = Signal(irq_bits)
+        irq_status = Signal(irq_bits)
         adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
         adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
@@ -174,6 +185,8 @@ class MdfqmTop(wiring.Component):
             m.d.sync += min_pulse.eq(_saturate(word, 0xFFFF))
         with m.If(written(regmap.ADC_OFFSET)):
             m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF))
+        with m.If(written(regmap.IRQ_ENABLE)):
+            m.d.sync += irq_enable.eq(word[:irq_bits])
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
                 m.d.sync += ref_regs[i].eq(
@@ -209,6 +222,10 @@ class MdfqmTop(wiring.Component):
                 m.d.comb += rd.eq(total)
             with m.Case(regmap.GATES):
                 m.d.comb += rd.eq(driver.up | (driver.lo << 16))
+            with m.Case(regmap.IRQ_ENABLE):
+                m.d.comb += rd.eq(irq_enable)
+            with m.Case(regmap.IRQ_STATUS):
+                m.d.comb += rd.eq(irq_status)
             for i in range(n):
                 with m.Case(regmap.REF_BASE + i):
                     m.d.comb += rd.eq(ref_regs[i])   # signed: sign-extended
@@ -250,11 +267,24 @@ class MdfqmTop(wiring.Component):
         ]
 
         # ---------------------------------------------------------------- switching counters
+        total_next = Signal(self.counter_width + 1)
+        m.d.comb += total_next.eq(total + sum(driver.event[i] for i in range(n)))
         with m.If(count_clear):
             m.d.sync += [events.eq(0), total.eq(0)]
         with m.Else():
             m.d.sync += [events[i].eq(events[i] + driver.event[i]) for i in range(n)]
-            m.d.sync += total.eq(total + sum(driver.event[i] for i in range(n)))
+            m.d.sync += total.eq(total_next)
+
+        # ---------------------------------------------------------------- interrupt
+        sources = {regmap.IRQ_FAULT: driver.fault_input & ~driver.fault,
+                   regmap.IRQ_COUNTER_WRAP: total_next[-1] & ~count_clear,
+                   regmap.IRQ_SAMPLE: core.sample}
+        irq_events = Cat(*(sources[1 << bit] for bit in range(irq_bits)))
+        cleared = Mux(written(regmap.IRQ_STATUS), word[:irq_bits], 0)
+        status_next = (irq_status & ~cleared) | irq_events
+        enable_next = Mux(written(regmap.IRQ_ENABLE), word[:irq_bits], irq_enable)
+        m.d.sync += [irq_status.eq(status_next),
+                     self.irq.eq((status_next & enable_next).any())]
 
         # ---------------------------------------------------------------- ADC trigger
         elapsed = Signal(regmap.ADC_COUNTER_WIDTH)
@@ -266,6 +296,9 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver)
+            m.d.comb += [Assert(self.irq == (irq_status & irq_enable).any(),
+                                "irq is not IRQ_STATUS & IRQ_ENABLE"),
+                         Cover(self.irq & irq_status[0])]
         return m
 
     def _properties(self, m, ctrl, dead, driver):

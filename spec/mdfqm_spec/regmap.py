@@ -111,7 +111,7 @@ DEMO_BASE = 0x100
 # word addresses
 ID, INFO, DEAD_MIN, CTRL, CMD, STATUS = 0x00, 0x01, 0x02, 0x03, 0x04, 0x05
 PERIOD, OSR, DEAD, MIN_PULSE, ADC_OFFSET = 0x06, 0x07, 0x08, 0x09, 0x0A
-EVENTS_TOTAL, GATES = 0x0B, 0x0C
+EVENTS_TOTAL, GATES, IRQ_ENABLE, IRQ_STATUS = 0x0B, 0x0C, 0x0D, 0x0E
 REF_BASE, EVENTS_BASE = 0x10, 0x20
 
 # CTRL bits
@@ -122,6 +122,10 @@ CMD_REF_COMMIT, CMD_FAULT_CLEAR, CMD_COUNT_CLEAR = 1 << 0, 1 << 1, 1 << 2
 # STATUS bits
 (STATUS_FAULT, STATUS_FAULT_INPUT, STATUS_ACTIVE, STATUS_REF_PENDING, STATUS_SATURATED,
  STATUS_PERIOD_CLAMPED) = (1 << b for b in range(6))
+# interrupt sources (IRQ_ENABLE, IRQ_STATUS): the fault latch set, a switching counter wrapped,
+# a sampling tick (the update that takes the next reference has started: feed one now)
+IRQ_FAULT, IRQ_COUNTER_WRAP, IRQ_SAMPLE = 1 << 0, 1 << 1, 1 << 2
+IRQ_MASK = IRQ_FAULT | IRQ_COUNTER_WRAP | IRQ_SAMPLE
 
 _TIME_MAX = (1 << TIME_WIDTH) - 1
 
@@ -142,6 +146,9 @@ REGISTERS = (
     Register("ADC_OFFSET", ADC_OFFSET, "RW", 16, doc="min(v, 65535)"),
     Register("EVENTS_TOTAL", EVENTS_TOTAL, "R", COUNTER_WIDTH, doc="wraps at 2**32"),
     Register("GATES", GATES, "R"),
+    Register("IRQ_ENABLE", IRQ_ENABLE, "RW", 3, doc="bits other than the three sources dropped"),
+    Register("IRQ_STATUS", IRQ_STATUS, "RW", 3,
+             doc="write 1 to clear; an event in the same clock wins"),
     Register("REF", REF_BASE, "RW", doc="signed, saturated to the width-bit code range",
              count=MAX_PHASES),
     Register("EVENTS", EVENTS_BASE, "R", COUNTER_WIDTH, doc="wraps at 2**32", count=MAX_PHASES),
