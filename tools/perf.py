@@ -1,18 +1,15 @@
-"""Speed and size of the drop-in designs on iCE40 UP5K, iCE40 HX8K and ECP5-25F, post-route.
+"""Speed and size of the core on iCE40 UP5K, iCE40 HX8K and ECP5-25F, measured post-route.
 
-    python -m tools.perf [--quick | --designs KEY,... --devices KEY,...] [--readme README.md]
+    python -m tools.perf [--quick] [--readme README.md]
 
-The designs are those of the drop-in files (:func:`mdfqm_gateware.dropin.default_configs`, N = 3,
-width 16): the core (also at N = 5), the gating-signal generator, the top with its Wishbone and
-with its AXI4-Lite front. Each is wrapped so that it fits any package: every input bit comes from
-a serial-in shift register and every output bit is registered and folded into one output pin, so
-the tools can neither see constants nor drop logic, and every path of the design is register to
+Each configuration is wrapped so that it fits any package: every input of the core comes from
+a serial-in shift register and every output is registered and folded into one output pin, so
+the tools can neither see constants nor drop logic, and every path of the core is register to
 register. Yosys (``synth_ice40 -dsp`` / ``synth_ecp5``) then nextpnr place and route it with a
-fixed seed and the device's clock request (``--freq``, the core's target, for every design); the
-table gives the post-route Fmax of the clock, the cell counts, the loop latency (the minimum
-update period) and the resulting maximum update rate. Writes ``build/perf/perf.md`` (the table
-and each row's worst path) and, with ``--readme``, replaces the block between the
-``<!-- perf:begin -->`` and ``<!-- perf:end -->`` markers with the table.
+fixed seed; the table gives the post-route Fmax of the clock, the cell counts, the loop latency
+(the minimum update period) and the resulting maximum update rate. Writes
+``build/perf/perf.md`` and, with ``--readme``, replaces the block between the
+``<!-- perf:begin -->`` and ``<!-- perf:end -->`` markers.
 """
 
 from __future__ import annotations
@@ -22,47 +19,29 @@ import json
 import re
 import subprocess
 import time
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
-from amaranth import (
-    Cat,
-    ClockDomain,
-    ClockSignal,
-    DomainRenamer,
-    Module,
-    ResetSignal,
-    Signal,
-    Value,
-)
+from amaranth import Cat, ClockDomain, ClockSignal, DomainRenamer, Module, ResetSignal, Signal
 from amaranth.back import rtlil
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_gateware.core import MdfqmCore
-from mdfqm_gateware.generator import GatingSignalGenerator
-from mdfqm_gateware.top import MdfqmTop
 
 __all__ = [
     "BUILD",
     "CONFIGS",
-    "CORE_TARGETS",
     "DEVICES",
-    "QUICK",
     "ROOT",
-    "TOP_TARGETS",
-    "Config",
+    "TARGET_PHASES",
     "Device",
     "SerialWrapper",
     "cell_counts",
-    "critical_path",
     "main",
     "measure",
-    "paths_report",
     "replace_block",
     "run",
-    "select",
     "table",
     "tool_versions",
 ]
@@ -74,85 +53,54 @@ BUILD = ROOT / "build" / "perf"
 
 @dataclass(frozen=True)
 class Device:
-    key: str           # short name for --devices and the build folder
     name: str
     family: str        # "ice40" or "ecp5"
     nextpnr_args: tuple[str, ...]
     clock_pin: str
-    target_mhz: float  # the clock nextpnr is asked for (--freq), for every design
+    target_mhz: float
 
 
 DEVICES = (
-    Device("up5k", "iCE40 UP5K (sg48)", "ice40", ("--up5k", "--package", "sg48"), "35", 48),
-    Device("hx8k", "iCE40 HX8K (ct256)", "ice40", ("--hx8k", "--package", "ct256"), "J3", 100),
-    Device("ecp5", "ECP5-25F (speed 6)", "ecp5",
-           ("--25k", "--package", "CABGA256", "--speed", "6"), "P6", 150),
+    Device("iCE40 UP5K (sg48)", "ice40", ("--up5k", "--package", "sg48"), "35", 48),
+    Device("iCE40 HX8K (ct256)", "ice40", ("--hx8k", "--package", "ct256"), "J3", 100),
+    Device("ECP5-25F (speed 6)", "ecp5", ("--25k", "--package", "CABGA256", "--speed", "6"),
+           "P6", 150),
 )
 
-#: the issue's Fmax targets of the core, stated for three phases, width 16
-CORE_TARGETS = {"up5k": 48, "hx8k": 100, "ecp5": 150}
-#: issue 14's targets of the whole top (N = 3, width 16), for either bus front
-TOP_TARGETS = {"up5k": 40, "hx8k": 90, "ecp5": 130}
-
-
-@dataclass(frozen=True)
-class Config:
-    """One design of the table: ``design`` names the row, ``dropin`` the drop-in file (module)
-    that holds the same design, ``targets`` the Fmax target per device key (none: "-")."""
-
-    key: str
-    design: str
-    dropin: str
-    build: Callable[[], wiring.Component]
-    targets: dict[str, float] = field(default_factory=dict)
-
-
-CONFIGS = (
-    Config("core3", "core", "mdfqm_core_n3_w16", lambda: MdfqmCore(3, 16), CORE_TARGETS),
-    Config("core5", "core", "mdfqm_core_n5_w16", lambda: MdfqmCore(5, 16)),
-    Config("generator", "generator (b<=8)", "mdfqm_generator_n3_w16_b8",
-           lambda: GatingSignalGenerator(3, 16, max_bits=8)),
-    Config("top_wb", "top, Wishbone", "mdfqm_top_n3_w16", lambda: MdfqmTop(3, 16), TOP_TARGETS),
-    Config("top_axil", "top, AXI4-Lite", "mdfqm_top_axil_n3_w16",
-           lambda: MdfqmTop(3, 16, bus="axi4lite"), TOP_TARGETS),
-)
-
-#: ``--quick``: (design keys, device keys)
-QUICK = (("core3",), ("up5k",))
+CONFIGS = ((3, 16, "largest_duty"), (5, 16, "largest_duty"))
+#: the issue's Fmax targets are stated for three phases
+TARGET_PHASES = (3,)
 
 
 class SerialWrapper(wiring.Component):
-    """Every input bit of ``inner`` from a shift register on ``sdi``; every output bit
-    XOR-folded to ``sdo`` through registers. Only for measuring: it keeps all logic and all
-    paths. ``in_width`` and ``out_width`` are the bits of the chain and of the output register
-    (every bit of every port, a ``View`` counted by its bits, not its elements)."""
+    """Every input of ``inner`` from a shift register on ``sdi``; every output XOR-folded to
+    ``sdo`` through registers. Only for measuring: it keeps all logic and all paths."""
 
     def __init__(self, inner):
         self.inner = inner
-        ports = [(member.flow, Value.cast(value))
-                 for _path, member, value in inner.signature.flatten(inner)]
-        self._inputs = [v for flow, v in ports if flow == wiring.In]
-        self._outputs = [v for flow, v in ports if flow == wiring.Out]
-        self.in_width = sum(len(v) for v in self._inputs)
-        self.out_width = sum(len(v) for v in self._outputs)
         super().__init__({"sdi": In(1), "sdo": Out(1)})
 
     def elaborate(self, platform):
         m = Module()
-        # The design runs in its own domain whose reset comes from a register, as it would from
-        # a reset synchroniser on a board, not straight from a pin.
+        # The core runs in its own domain whose reset comes from a register, as it would from a
+        # reset synchroniser on a board, not straight from a pin.
         m.domains.core = ClockDomain()
         m.d.comb += ClockSignal("core").eq(ClockSignal("sync"))
         m.d.sync += ResetSignal("core").eq(ResetSignal("sync"))
         m.submodules.inner = DomainRenamer("core")(self.inner)
-        chain = Signal(self.in_width)
+        inner = self.inner
+        inputs, outputs = [], []
+        for _path, member, value in inner.signature.flatten(inner):
+            (inputs if member.flow == wiring.In else outputs).append(value)
+        total_in = sum(len(v) for v in inputs)
+        chain = Signal(total_in)
         m.d.sync += chain.eq(Cat(self.sdi, chain[:-1]))
         offset = 0
-        for value in self._inputs:
+        for value in inputs:
             m.d.comb += value.eq(chain[offset:offset + len(value)])
             offset += len(value)
-        captured = Signal(self.out_width)
-        m.d.sync += captured.eq(Cat(*self._outputs))
+        captured = Signal(sum(len(v) for v in outputs))
+        m.d.sync += captured.eq(Cat(*outputs))
         m.d.sync += self.sdo.eq(captured.xor())
         return m
 
@@ -187,28 +135,13 @@ def cell_counts(stat: dict, family: str) -> dict:
     return {"luts": luts, "ffs": ffs, "carry": carry}
 
 
-def critical_path(report: dict) -> dict | None:
-    """Start and end (cell and net) of the slowest clock-to-clock path of a nextpnr
-    ``--report`` file, with its delay and logic levels; None when it has none."""
-    paths = [p for p in report.get("critical_paths", []) if p.get("path")]
-    if not paths:
-        return None
-    worst = max(paths, key=lambda p: sum(step.get("delay", 0) for step in p["path"]))
-    steps = worst["path"]
-    return {
-        "from": steps[0]["from"]["cell"], "to": steps[-1]["to"]["cell"],
-        "from_net": steps[0].get("net", ""), "to_net": steps[-1].get("net", ""),
-        "delay_ns": sum(step.get("delay", 0) for step in steps),
-        "logic_levels": sum(1 for step in steps if step.get("type") == "logic"),
-    }
-
-
-def measure(config: Config, device: Device, seed: int = 1) -> dict:
-    design = config.build()
-    work = BUILD / f"{config.key}_{device.key}"
+def measure(phases: int, width: int, rule: str, device: Device, seed: int = 1) -> dict:
+    core = MdfqmCore(phases, width, rule)
+    tag = f"n{phases}_w{width}_{rule}_{device.family}_{device.nextpnr_args[0].strip('-')}"
+    work = BUILD / tag
     work.mkdir(parents=True, exist_ok=True)
     il = work / "top.il"
-    il.write_text(rtlil.convert(SerialWrapper(design), name="top"))
+    il.write_text(rtlil.convert(SerialWrapper(core), name="top"))
     synth = "synth_ice40 -dsp" if device.family == "ice40" else "synth_ecp5"
     json_netlist = work / "top.json"
     stat_file = work / "stat.json"
@@ -232,71 +165,32 @@ def measure(config: Config, device: Device, seed: int = 1) -> dict:
     run([*pnr, "--json", str(json_netlist.relative_to(ROOT)), "--freq", str(device.target_mhz),
          "--seed", str(seed), "--timing-allow-fail",
          "--report", str(report.relative_to(ROOT))], work / "nextpnr.log")
-    result = json.loads(report.read_text())
-    fmax = max(result["fmax"].values(), key=lambda f: f["achieved"])
-    long_latency = getattr(design, "long_latency", None)
-    return {"key": config.key, "design": config.design, "dropin": config.dropin,
-            "phases": design.phases, "width": design.width, "device": device.name,
-            "device_key": device.key, "target": config.targets.get(device.key),
-            "fmax": fmax["achieved"], "latency": design.latency,
-            "long_latency": long_latency,
-            # a long update's minimum period at the largest resolution: max(L_b, 2**b)
-            "long_period": (None if long_latency is None
-                            else max(long_latency, 2 ** design.max_bits)),
-            "max_bits": getattr(design, "max_bits", None),
-            "critical": critical_path(result), "log": str((work / "nextpnr.log").relative_to(ROOT)),
+    fmax = max(json.loads(report.read_text())["fmax"].values(), key=lambda f: f["achieved"])
+    return {"phases": phases, "width": width, "rule": rule, "device": device.name,
+            "target": device.target_mhz, "fmax": fmax["achieved"], "latency": core.latency,
             "seconds": time.monotonic() - started, **counts}
 
 
 def table(rows: list[dict], versions: str) -> str:
     lines = [
         f"Measured by `make perf` (`python -m tools.perf`) with {versions}; "
-        "post-route, nextpnr seed 1 and `--freq` the core's target on every row, each design "
-        "wrapped in serial I/O (see the module's docstring). LUTs on ECP5 count each CCU2C "
-        "carry cell as two LUT4s. Targets: the core's for N = 3, issue 14's for the whole top.",
+        "post-route, nextpnr seed 1, core wrapped in serial I/O (see the module's docstring). "
+        "LUTs on ECP5 count each CCU2C carry cell as two LUT4s.",
         "",
-        "| design | N / width | device | loop latency (clocks) | Fmax (MHz) | target (MHz) | "
+        "| N / width | device | loop latency (clocks) | Fmax (MHz) | target (MHz) | "
         "max update rate (MHz) | LUT4 | FF | carry |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
-    notes = False
     for r in rows:
-        if r.get("target") is not None:
+        if r["phases"] in TARGET_PHASES:
             met = "met" if r["fmax"] >= r["target"] else "MISSED"
             target = f"{r['target']:.0f} ({met})"
         else:
             target = "-"
-        latency = f"{r['latency']}"
-        rate = f"{r['fmax'] / r['latency']:.2f}"
-        if r.get("long_latency") is not None:
-            notes = True
-            latency += f" short, {r['long_latency']} long"
-            rate += (f" short, {r['fmax'] / r['long_period']:.3f} long at b = {r['max_bits']}"
-                     "\u00b9")
         lines.append(
-            f"| {r['design']} | {r['phases']} / {r['width']} | {r['device']} | {latency} | "
-            f"{r['fmax']:.1f} | {target} | {rate} | {r['luts']} | {r['ffs']} | {r['carry']} |")
-    if notes:
-        lines += [
-            "",
-            "\u00b9 Generator: a short update (mdfqm after mdfqm) has the core's latency and "
-            "minimum period; a long one (a gamma mode, or the first update after a mode "
-            "change) has the long latency and a minimum period of max(long latency, 2**b) "
-            "clocks, 256 at b = 8.",
-        ]
-    return "\n".join(lines) + "\n"
-
-
-def paths_report(rows: list[dict]) -> str:
-    """Each row's worst path (nextpnr's critical path report): start and end cell and net."""
-    lines = ["", "Worst path of each row (nextpnr `--report`; details in the log):", ""]
-    for r in rows:
-        path = r.get("critical")
-        where = (f"{path['from']} ({path['from_net']}) -> {path['to']} ({path['to_net']}), "
-                 f"{path['delay_ns']:.2f} ns, {path['logic_levels']} logic steps"
-                 if path else "no clock-to-clock path reported")
-        lines.append(f"- {r['design']}, N = {r['phases']}, {r['device']}: {where} "
-                     f"(`{r.get('log', '')}`)")
+            f"| {r['phases']} / {r['width']} | {r['device']} | {r['latency']} | "
+            f"{r['fmax']:.1f} | {target} | {r['fmax'] / r['latency']:.2f} | "
+            f"{r['luts']} | {r['ffs']} | {r['carry']} |")
     return "\n".join(lines) + "\n"
 
 
@@ -308,51 +202,25 @@ def replace_block(path: Path, marker: str, body: str) -> None:
     path.write_text(pattern.sub(lambda m: m.group(1) + body + m.group(2), text))
 
 
-def select(keys: str | None, known: list[str], what: str) -> list[str]:
-    """The comma-separated ``keys`` (all of ``known`` when None), in ``known``'s order."""
-    if keys is None:
-        return list(known)
-    wanted = [k.strip() for k in keys.split(",") if k.strip()]
-    unknown = sorted(set(wanted) - set(known))
-    if unknown or not wanted:
-        raise SystemExit(f"unknown {what} {', '.join(unknown) or '(none given)'}; "
-                         f"choose from {', '.join(known)}")
-    return [k for k in known if k in wanted]
-
-
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true",
-                        help="only the core at N = 3 on UP5K (as --designs core3 --devices up5k)")
-    parser.add_argument("--designs", metavar="KEY,...",
-                        help=f"designs to measure, of {', '.join(c.key for c in CONFIGS)} "
-                             "(default: all)")
-    parser.add_argument("--devices", metavar="KEY,...",
-                        help=f"devices, of {', '.join(d.key for d in DEVICES)} (default: all)")
+    parser.add_argument("--quick", action="store_true", help="N = 3 on UP5K only")
     parser.add_argument("--readme", type=Path)
     args = parser.parse_args(argv)
-    if args.quick and (args.designs or args.devices):
-        parser.error("--quick is a fixed subset: give it or --designs / --devices, not both")
-    designs, devices = (",".join(QUICK[0]), ",".join(QUICK[1])) if args.quick else \
-        (args.designs, args.devices)
-    design_keys = select(designs, [c.key for c in CONFIGS], "design")
-    device_keys = select(devices, [d.key for d in DEVICES], "device")
     BUILD.mkdir(parents=True, exist_ok=True)
+    configs = CONFIGS[:1] if args.quick else CONFIGS
+    devices = DEVICES[:1] if args.quick else DEVICES
     rows = []
-    for config in (c for c in CONFIGS if c.key in design_keys):
-        for device in (d for d in DEVICES if d.key in device_keys):
-            row = measure(config, device)
-            path = row["critical"]
-            print(f"{config.design} N={row['phases']} W={row['width']} {device.name}: "
-                  f"{row['fmax']:.1f} MHz, {row['luts']} LUT4, {row['ffs']} FF, "
-                  f"{row['carry']} carry ({row['seconds']:.0f} s); worst path "
-                  f"{path['from'] if path else '?'} -> {path['to'] if path else '?'}",
-                  flush=True)
+    for phases, width, rule in configs:
+        for device in devices:
+            row = measure(phases, width, rule, device)
+            print(f"N={phases} W={width} {device.name}: {row['fmax']:.1f} MHz, "
+                  f"{row['luts']} LUT4, {row['ffs']} FF, {row['carry']} carry "
+                  f"({row['seconds']:.0f} s)", flush=True)
             rows.append(row)
     body = table(rows, tool_versions())
-    (BUILD / "perf.md").write_text(body + paths_report(rows))
-    (BUILD / "perf.json").write_text(json.dumps(rows, indent=1) + "\n")
-    print(body + paths_report(rows))
+    (BUILD / "perf.md").write_text(body)
+    print(body)
     if args.readme:
         replace_block(args.readme, "perf", body)
 
