@@ -38,6 +38,7 @@ $(STAMP): pyproject.toml host/pyproject.toml requirements.lock
 	touch $@
 
 generate: $(STAMP)
+	$(PY) -m tools.regmap_gen --out build/generated
 	$(PY) -m mdfqm_gateware.dropin --out build/generated
 	$(PY) -m tools.ipxact_component --out build/generated
 

@@ -3,8 +3,14 @@
 its register file from it, the model reads and writes through it, the host addresses the boards
 with it, and tests check both documents against it.
 
+The top's map has one source, ``spec/rdl/mdfqm_top.rdl`` (SystemRDL 2.0): ``tools/regmap_gen.py``
+compiles it into :mod:`mdfqm_spec.regmap_top` (plain data, committed), from which this module takes
+:data:`REGISTERS` and every word address and field mask (``CTRL``, ``REF_BASE``,
+``CTRL_ENABLE``, ``STATUS_FAULT``, ...; ``<REG>_<FIELD>_SHIFT``, ``<REG>_MASK``). To change the
+map, edit the RDL and regenerate (``spec/rdl/README.md``); nothing here imports the compiler.
+
 Addresses are 32-bit-word addresses. Access: ``RW`` read/write, ``R`` read-only, ``W`` write-only
-(write-1 strobes; reads return 0). The top's write clamps are in ``doc``; the bus rules (one
+(write-1 strobes; reads return 0). The top's write clamps are in ``clamp``; the bus rules (one
 request per ``cyc & stb & ~ack`` cycle, ``ack`` the next cycle) are in ``docs/top.md``.
 """
 
@@ -12,8 +18,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mdfqm_spec.contract import RULES, TIME_WIDTH
+from mdfqm_spec.contract import RULES
 
+from . import regmap_top as _top
+from .regmap_top import *  # noqa: F403 -- the top's word addresses and field masks
+from .regmap_top import ADDR_WIDTH, PARAMETERS
 from .validate import validate_int
 
 __all__ = [
@@ -27,9 +36,11 @@ __all__ = [
     "ID_VALUE",
     "INFO_TOP",
     "MAX_PHASES",
+    "PARAMETERS",
     "REGISTERS",
     "TOP",
     "TOP_BASE",
+    "Field",
     "Register",
     "Window",
     "demo_window",
@@ -42,6 +53,26 @@ ACCESS = ("RW", "R", "W")
 
 
 @dataclass(frozen=True)
+class Field:
+    """One field of a :class:`Register`: bits ``[lsb + width - 1 : lsb]``."""
+
+    name: str
+    lsb: int
+    width: int
+    access: str               # SystemRDL sw: "r", "rw" or "w"
+    reset: int | str = 0      # an int, or the configuration parameter it equals ("dead_min")
+    clamp: str = ""           # the value a write stores (tools.regmap_gen.clamp_value)
+    doc: str = ""
+    onwrite: str = ""         # SystemRDL onwrite, e.g. "woclr" (write 1 to clear)
+    singlepulse: bool = False  # a write-1 strobe: acts in the clock of the write, reads 0
+    intr: bool = False        # an interrupt status bit
+
+    @property
+    def mask(self) -> int:
+        return ((1 << self.width) - 1) << self.lsb
+
+
+@dataclass(frozen=True)
 class Register:
     """One register (or, with ``count`` > 1, an array of consecutive ones, ``NAME[i]``)."""
 
@@ -50,8 +81,10 @@ class Register:
     access: str          # one of ACCESS
     width: int = 32      # bits stored and read back (the rest read 0)
     reset: str = "0"     # the reset value, as documented
-    doc: str = ""        # the meaning, and the clamp a write goes through
+    doc: str = ""        # the meaning
     count: int = 1       # registers in the array ("phases" of them for the per-leg ones)
+    clamp: str = ""      # the value a write stores, when not the written bits (the top's)
+    fields: tuple = ()   # its Fields, by bit position (the top's)
 
 
 @dataclass(frozen=True)
@@ -95,67 +128,36 @@ class Window:
 
 
 # ---------------------------------------------------------------------------- the drop-in top
-#: word-address bits of the top's bus
-ADDR_WIDTH = 6
-#: legs the top's register map holds (REF[i], EVENTS[i])
-MAX_PHASES = 16
-#: the ID register of the top, and of the board demo's window: "MDFQ"
-ID_VALUE = 0x4D444651
-COUNTER_WIDTH = 32
-ADC_COUNTER_WIDTH = 17          # > 16 bits: it saturates above every ADC_OFFSET
-DEFAULT_DEAD_MIN = 64           # clocks: 0.64 us at 100 MHz, 1.33 us at 48 MHz
-#: where the demo's bus puts the top, and the demo's own window
+#: the top's registers, in address order, from spec/rdl/mdfqm_top.rdl (``docs/top.md`` has the
+#: generated table; tools/tests/test_regmap_gen.py checks both against the RDL)
+REGISTERS = tuple(
+    Register(**{**reg, "fields": tuple(Field(**f) for f in reg["fields"])})
+    for reg in _top.REGISTERS)
+
+#: the top's window as the demo's bus sees it (word-address bits ``ADDR_WIDTH``: the fewest that
+#: hold the map)
 TOP_BASE = 0x000
+TOP = Window("top", TOP_BASE, ADDR_WIDTH, REGISTERS)
+
+#: legs the top's register map holds (REF[i], EVENTS[i])
+MAX_PHASES = TOP["REF"].count
+#: the ID register of the top, and of the board demo's window: "MDFQ"
+ID_VALUE = TOP["ID"].fields[0].reset
+#: bits of the switching counters: the widest (the RDL's default ``counter_width``)
+COUNTER_WIDTH = PARAMETERS["counter_width"]
+#: the drop-in configuration's dead-time floor in clocks: 0.64 us at 100 MHz, 1.33 us at 48 MHz
+DEFAULT_DEAD_MIN = PARAMETERS["dead_min"]
+ADC_COUNTER_WIDTH = 17          # > 16 bits: it saturates above every ADC_OFFSET
+#: where the demo's bus puts the demo's own window
 DEMO_BASE = 0x100
 
-# word addresses
-ID, INFO, DEAD_MIN, CTRL, CMD, STATUS = 0x00, 0x01, 0x02, 0x03, 0x04, 0x05
-PERIOD, OSR, DEAD, MIN_PULSE, ADC_OFFSET = 0x06, 0x07, 0x08, 0x09, 0x0A
-EVENTS_TOTAL, GATES, IRQ_ENABLE, IRQ_STATUS = 0x0B, 0x0C, 0x0D, 0x0E
-REF_BASE, EVENTS_BASE = 0x10, 0x20
-
-# CTRL bits
-CTRL_ENABLE, CTRL_ZERO_POLICY = 1 << 0, 1 << 1
-CTRL_MASK = CTRL_ENABLE | CTRL_ZERO_POLICY
-# CMD bits (write-1 strobes)
-CMD_REF_COMMIT, CMD_FAULT_CLEAR, CMD_COUNT_CLEAR = 1 << 0, 1 << 1, 1 << 2
-# STATUS bits
-(STATUS_FAULT, STATUS_FAULT_INPUT, STATUS_ACTIVE, STATUS_REF_PENDING, STATUS_SATURATED,
- STATUS_PERIOD_CLAMPED) = (1 << b for b in range(6))
-# interrupt sources (IRQ_ENABLE, IRQ_STATUS): the fault latch set, a switching counter wrapped,
-# a sampling tick (the update that takes the next reference has started: feed one now)
-IRQ_FAULT, IRQ_COUNTER_WRAP, IRQ_SAMPLE = 1 << 0, 1 << 1, 1 << 2
-IRQ_MASK = IRQ_FAULT | IRQ_COUNTER_WRAP | IRQ_SAMPLE
-
-_TIME_MAX = (1 << TIME_WIDTH) - 1
-
-#: the top's registers, in address order (``docs/top.md`` has the same table; a test checks it)
-REGISTERS = (
-    Register("ID", ID, "R", reset=f"{ID_VALUE:#010X}".replace("0X", "0x")),
-    Register("INFO", INFO, "R", reset="config"),
-    Register("DEAD_MIN", DEAD_MIN, "R", TIME_WIDTH, reset="dead_min"),
-    Register("CTRL", CTRL, "RW", 2, doc="bits other than ENABLE, ZERO_POLICY dropped"),
-    Register("CMD", CMD, "W", 3, doc="write-1 strobes; reads 0"),
-    Register("STATUS", STATUS, "R", 6),
-    Register("PERIOD", PERIOD, "RW", 16, reset="latency",
-             doc="min(v, 65535); core uses max(PERIOD, latency)"),
-    Register("OSR", OSR, "RW", 8, reset="1", doc="min(v, 255); core uses max(OSR, 1)"),
-    Register("DEAD", DEAD, "RW", TIME_WIDTH, reset="dead_min",
-             doc=f"min(max(v, dead_min), {_TIME_MAX})"),
-    Register("MIN_PULSE", MIN_PULSE, "RW", TIME_WIDTH, doc=f"min(v, {_TIME_MAX})"),
-    Register("ADC_OFFSET", ADC_OFFSET, "RW", 16, doc="min(v, 65535)"),
-    Register("EVENTS_TOTAL", EVENTS_TOTAL, "R", COUNTER_WIDTH, doc="wraps at 2**32"),
-    Register("GATES", GATES, "R"),
-    Register("IRQ_ENABLE", IRQ_ENABLE, "RW", 3, doc="bits other than the three sources dropped"),
-    Register("IRQ_STATUS", IRQ_STATUS, "RW", 3,
-             doc="write 1 to clear; an event in the same clock wins"),
-    Register("REF", REF_BASE, "RW", doc="signed, saturated to the width-bit code range",
-             count=MAX_PHASES),
-    Register("EVENTS", EVENTS_BASE, "R", COUNTER_WIDTH, doc="wraps at 2**32", count=MAX_PHASES),
-)
-
-#: the top's window as the demo's bus sees it
-TOP = Window("top", TOP_BASE, ADDR_WIDTH, REGISTERS)
+# interrupt sources (the bits of IRQ_ENABLE and IRQ_STATUS): the fault latch set, a switching
+# counter wrapped, a sampling tick (the update that takes the next reference has started: feed
+# one now)
+IRQ_FAULT = _top.IRQ_STATUS_FAULT
+IRQ_COUNTER_WRAP = _top.IRQ_STATUS_COUNTER_WRAP
+IRQ_SAMPLE = _top.IRQ_STATUS_SAMPLE
+IRQ_MASK = _top.IRQ_STATUS_MASK
 
 
 def validate_top_phases(phases) -> int:
@@ -167,11 +169,23 @@ def validate_top_phases(phases) -> int:
 
 
 def info_word(phases: int, width: int, rule: str, upper_active_low: bool,
-              lower_active_low: bool, latency: int) -> int:
-    """``INFO``: phases [4:0], width [10:5], rule [11] (1 exact_nearest), upper_active_low [12],
-    lower_active_low [13], loop latency [23:16]."""
-    return (phases | width << 5 | RULES.index(rule) << 11 | int(upper_active_low) << 12
-            | int(lower_active_low) << 13 | latency << 16)
+              lower_active_low: bool, latency: int, **parameters) -> int:
+    """``INFO``: each field holds the configuration parameter its reset names in the RDL
+    (phases [4:0], width [10:5], rule [11] (1 exact_nearest), upper_active_low [12],
+    lower_active_low [13], loop latency [23:16]); a field added there for a new parameter takes
+    it from ``parameters``."""
+    values = {"phases": phases, "width": width, "rule": RULES.index(rule),
+              "upper_active_low": upper_active_low, "lower_active_low": lower_active_low,
+              "latency": latency, **parameters}
+    word = 0
+    for f in TOP["INFO"].fields:
+        if isinstance(f.reset, str) and f.reset not in values:
+            raise ValueError(f"INFO.{f.name} holds parameter {f.reset!r}: pass it")
+        value = int(values[f.reset]) if isinstance(f.reset, str) else f.reset
+        if not 0 <= value < 1 << f.width:
+            raise ValueError(f"INFO.{f.name}: {value} does not fit {f.width} bits")
+        word |= value << f.lsb
+    return word
 
 
 # ---------------------------------------------------------------------------- the board demo
