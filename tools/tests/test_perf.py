@@ -1,0 +1,219 @@
+"""tools/perf.py without place and route: the design list follows the drop-in files, the table
+puts met / MISSED right, the serial wrapper feeds every port bit of a design, the worst path is
+read from nextpnr's report."""
+
+import re
+
+import pytest
+from amaranth.back import rtlil
+
+from mdfqm_gateware.dropin import default_configs
+from tools import perf
+
+ROOT = perf.ROOT
+PARAMS = ("phases", "width", "rule", "max_bits", "bus", "counter_width", "dead_min")
+
+
+def _params(component):
+    component._MustUse__used = True     # only looked at, never elaborated: no warning
+    return type(component), {p: getattr(component, p, None) for p in PARAMS}
+
+
+def test_configs_cover_the_drop_in_files():
+    configs = {c.dropin: c for c in perf.CONFIGS}
+    dropins = default_configs(3, 16)
+    assert len(dropins) == 4
+    for name, factory in dropins:
+        assert name in configs, f"drop-in {name} not measured"
+        assert _params(configs[name].build()) == _params(factory())
+    # and the core at N = 5, as the drop-in file for five phases
+    name, factory = default_configs(5, 16)[0]
+    assert _params(configs[name].build()) == _params(factory())
+    assert len({c.key for c in perf.CONFIGS}) == len(perf.CONFIGS) == 5
+    assert [c.design for c in perf.CONFIGS] == [
+        "core", "core", "generator (b<=8)", "top, Wishbone", "top, AXI4-Lite"]
+
+
+def test_targets():
+    targets = {c.key: c.targets for c in perf.CONFIGS}
+    assert targets["core3"] == {"up5k": 48, "hx8k": 100, "ecp5": 150}
+    assert targets["top_wb"] == targets["top_axil"] == {"up5k": 40, "hx8k": 90, "ecp5": 130}
+    assert targets["core5"] == targets["generator"] == {}
+    assert {d.key for d in perf.DEVICES} == set(perf.CORE_TARGETS) == set(perf.TOP_TARGETS)
+    # nextpnr is asked for the core's target on every row, as before
+    assert {d.key: d.target_mhz for d in perf.DEVICES} == perf.CORE_TARGETS
+    # DSP blocks only where the device has them (the HX8K has none)
+    assert [d.synth for d in perf.DEVICES] == ["synth_ice40 -dsp", "synth_ice40", "synth_ecp5"]
+
+
+def _row(key, device_key, fmax, **extra):
+    config = next(c for c in perf.CONFIGS if c.key == key)
+    device = next(d for d in perf.DEVICES if d.key == device_key)
+    row = {"key": key, "design": config.design, "phases": 5 if key == "core5" else 3,
+           "width": 16, "device": device.name, "device_key": device_key,
+           "target": config.targets.get(device_key), "synth": device.synth, "fallback": False,
+           "fmax": fmax, "latency": 8, "long_latency": None, "luts": 1000, "ffs": 900,
+           "carry": 300, "dsp": 3}
+    return {**row, **extra}
+
+
+def _cells(line):
+    return [c.strip() for c in line.strip().strip("|").split("|")]
+
+
+def test_table_marks_met_and_missed():
+    rows = [
+        _row("core3", "up5k", 47.9),
+        _row("core3", "hx8k", 100.0),
+        _row("core5", "ecp5", 120.0, latency=11),
+        _row("generator", "up5k", 44.0, long_latency=20, long_period=256, max_bits=8),
+        _row("top_wb", "up5k", 40.2),
+        _row("top_axil", "ecp5", 129.9, synth="synth_ecp5 -dff", fallback=True),
+    ]
+    text = perf.table(rows, "Yosys X, nextpnr-Y")
+    body = [_cells(line) for line in text.splitlines() if line.startswith("| ")]
+    header, *cells = body
+    assert header == ["design", "N / width", "device", "loop latency (clocks)", "Fmax (MHz)",
+                      "target (MHz)", "max update rate (MHz)", "LUT4", "FF", "carry", "DSP"]
+    assert all(len(c) == len(header) for c in cells)
+    column = {name: i for i, name in enumerate(header)}
+    got = [(c[column["design"]], c[column["target (MHz)"]]) for c in cells]
+    assert got == [("core", "48 (MISSED)"), ("core", "100 (met)"), ("core", "-"),
+                   ("generator (b<=8)", "-"), ("top, Wishbone", "40 (met)"),
+                   ("top, AXI4-Lite", "130 (MISSED)")]
+    assert cells[0][column["max update rate (MHz)"]] == f"{47.9 / 8:.2f}"
+    assert cells[2][column["max update rate (MHz)"]] == f"{120 / 11:.2f}"
+    assert cells[2][column["N / width"]] == "5 / 16"
+    generator = cells[3]
+    assert generator[column["loop latency (clocks)"]] == "8 short, 20 long"
+    assert generator[column["max update rate (MHz)"]] == (
+        f"{44 / 8:.2f} short, {44 / 256:.3f} long at b = 8\u00b9")
+    assert "256 at b = 8" in text and "Yosys X, nextpnr-Y" in text
+    # the ECP5 row synthesised with the fallback is marked, and the note names the command
+    assert cells[5][column["device"]] == "ECP5-25F (speed 6)\u00b2"
+    assert "\u00b2 Synthesised with `synth_ecp5 -dff`" in text
+    assert "`synth_ice40 -dsp` on iCE40 UP5K" in text and "`synth_ice40` on iCE40 HX8K" in text
+    # each note a paragraph of its own
+    assert "\n\n\u00b9 Generator" in text and "\n\n\u00b2 Synthesised" in text
+
+
+def test_table_without_notes():
+    text = perf.table([_row("top_wb", "hx8k", 89.9)], "v")
+    assert "90 (MISSED)" in text and "\u00b9" not in text and "\u00b2" not in text
+    assert "synth_ecp5" not in text
+
+
+def test_paths_report_names_both_ends():
+    row = _row("top_wb", "hx8k", 95.0, log="build/perf/top_wb_hx8k/nextpnr.log",
+               critical={"from": "a_LC", "to": "b_LC", "to_port": "SR",
+                         "start": "rtl/mdfqm_gateware/driver.py:1", "start_name": None,
+                         "end": "nowhere.py:3", "end_name": "inner.driver.leg1.cnt[4]",
+                         "through": ["x.py:1", "y.py:2"], "delay_ns": 10.5,
+                         "logic_levels": 7})
+    text = perf.paths_report([row, _row("core3", "up5k", 45.0, critical=None)])
+    first = (ROOT / "rtl/mdfqm_gateware/driver.py").read_text().splitlines()[0].strip()
+    assert (f"- top, Wishbone, N = 3, iCE40 HX8K (ct256): from rtl/mdfqm_gateware/driver.py:1 "
+            f"`{first[:57]}") in text
+    assert ("to driver.leg1.cnt[4] (nowhere.py:3) (port SR), through x.py:1, y.py:2; "
+            "10.50 ns, 7 logic steps") in text
+    assert "cells a_LC -> b_LC" in text and "no clock-to-clock path" in text
+
+
+def _step(kind, src, dst, delay, sources=(), net="n"):
+    return {"type": kind, "from": {"cell": src, "port": "Q"},
+            "to": {"cell": dst, "port": "D"}, "delay": delay, "net": net,
+            "sources": list(sources)}
+
+
+def test_critical_path_picks_the_slowest_clock_to_clock_path():
+    here = f"{ROOT}/rtl/mdfqm_gateware/top.py"
+    report = {"critical_paths": [
+        {"from": "clk", "to": "clk", "path": [_step("clk-to-q", "x", "x", 1.0),
+                                              _step("logic", "x", "z", 2.0)]},
+        {"from": "clk", "to": "clk", "path": [
+            _step("clk-to-q", "p_LC", "p_LC", 1.0),
+            _step("routing", "p_LC", "q", 0.5, [f"{here}:7", "/share/ice40/x.v:1"]),
+            _step("logic", "q", "r", 1.0),
+            _step("routing", "r", "s_DFFLC", 0.5, [f"{here}:9", f"{here}:7"]),
+            _step("setup", "s_DFFLC", "s_DFFLC", 1.0)]},
+        {"from": "<async>", "to": "clk", "path": [_step("routing", "i", "j", 99.0)]},
+    ]}
+    cells = {
+        "p": {"type": "SB_LUT4", "connections": {"O": [5]}},
+        "p_ff": {"type": "SB_DFFE", "connections": {"D": [5], "Q": [6]},
+                 "attributes": {"src": f"{here}:3|/share/ice40/ff_map.v:1"}},
+        "s": {"type": "SB_DFF", "connections": {"D": [7], "Q": [8]},
+              "attributes": {"src": f"{here}:4"}},
+    }
+    netnames = {
+        "inner.dead": {"bits": [9, 6, 10], "hide_name": 0},
+        "inner.dead_SB_DFFESR_Q_D": {"bits": [6], "hide_name": 0},
+        "$auto$x": {"bits": [6], "hide_name": 1},
+        "inner.s_SB_DFF_Q": {"bits": [8], "hide_name": 0},
+    }
+    path = perf.critical_path(report, {"cells": cells, "netnames": netnames})
+    assert path == {"from": "p_LC", "to": "s_DFFLC", "to_port": "D",
+                    "start": "rtl/mdfqm_gateware/top.py:3", "start_name": "inner.dead[1]",
+                    "end": "rtl/mdfqm_gateware/top.py:4", "end_name": None,
+                    "through": ["rtl/mdfqm_gateware/top.py:7", "rtl/mdfqm_gateware/top.py:9"],
+                    "delay_ns": 4.0, "logic_levels": 1}
+    assert perf.critical_path(report)["start"] is None
+    assert perf.critical_path({"critical_paths": []}) is None
+
+
+def test_flop_of_ecp5_names_the_flop_itself():
+    cells = {"r_TRELLIS_FF_Q": {"type": "TRELLIS_FF", "connections": {}}}
+    assert perf.flop_of(cells, "r_TRELLIS_FF_Q") is cells["r_TRELLIS_FF_Q"]
+    assert perf.flop_of(cells, "unknown_LC") is None
+
+
+def _module_ports(il: str, module: str):
+    body = il.split(f"module \\{module}\n", 1)[1].split("\nend\n", 1)[0]
+    ports = re.findall(r"^\s*wire width (\d+) (input|output) \d+\s+\\(\S+)$", body, re.M)
+    return {name: (direction, int(width)) for width, direction, name in ports}
+
+
+def _widths(ports, skip):
+    inputs = sum(w for name, (d, w) in ports.items() if d == "input" and name not in skip)
+    outputs = sum(w for name, (d, w) in ports.items() if d == "output" and name not in skip)
+    return inputs, outputs
+
+
+@pytest.mark.parametrize("config", [c for c in perf.CONFIGS if c.key != "core5"],
+                         ids=lambda c: c.key)
+def test_wrapper_feeds_every_port_bit(config):
+    # the design as its drop-in file has it: every port with its width (a View by its bits:
+    # the stream's payload of three references is 48 bits, not 3)
+    alone = _module_ports(rtlil.convert(config.build(), name="dut"), "dut")
+    expected = _widths(alone, {"clk", "rst"})
+    assert alone["ref__payload"] == ("input", 48)
+    wrapper = perf.SerialWrapper(config.build())
+    assert (wrapper.in_width, wrapper.out_width) == expected
+    il = rtlil.convert(wrapper, name="top")
+    # inside the wrapper the design's inputs (merged by Amaranth into one port when they come
+    # from one chain) are all driven by the chain: a bit tied to a constant would be folded
+    # into the module and leave its ports
+    inner = _module_ports(il, "top.inner")
+    assert _widths(inner, {"core_clk", "core_rst"}) == expected
+    assert set(_module_ports(il, "top")) == {"clk", "rst", "sdi", "sdo"}
+
+
+@pytest.mark.parametrize("args", [["--designs", "nope"], ["--devices", "hx1k"],
+                                  ["--quick", "--designs", "top_wb"], ["--designs", ","]])
+def test_rejects_bad_selections(args):
+    with pytest.raises(SystemExit) as info:
+        perf.main(args)
+    assert info.value.code not in (0, None)
+
+
+def test_select_keeps_the_table_order():
+    keys = [c.key for c in perf.CONFIGS]
+    assert perf.select("top_axil,core3", keys, "design") == ["core3", "top_axil"]
+    assert perf.select(None, keys, "design") == keys
+
+
+def test_replace_block(tmp_path):
+    readme = tmp_path / "README.md"
+    readme.write_text("a\n<!-- perf:begin -->\nold\n<!-- perf:end -->\nb\n")
+    perf.replace_block(readme, "perf", "new\n")
+    assert readme.read_text() == "a\n<!-- perf:begin -->\nnew\n<!-- perf:end -->\nb\n"
