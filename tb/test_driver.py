@@ -77,7 +77,7 @@ def generate(rng, scenario, p, cycles):
     s = Stimulus(rng, p)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in DRIVER_OUTPUTS}
-    up, lo = [], []
+    up, lo, in_force = [], [], []
     chatter = 0
     for cycle in range(cycles):
         rst = fault_in = clear = 0
@@ -129,6 +129,7 @@ def generate(rng, scenario, p, cycles):
         h = s.h if update or rng.random() < 0.5 else rng.randrange(1 << n)  # noise between
         inputs = {"rst": rst, "h": h, "update": update, "enable": s.enable, "dead": s.dead,
                   "min_pulse": s.min_pulse, "fault_in": fault_in, "fault_clear": clear}
+        in_force.append(model.dead_in_force)     # the legs act on last clock's dead
         out = model.step(**inputs)
         for name in INPUTS:
             stim[name].append(inputs[name])
@@ -138,8 +139,7 @@ def generate(rng, scenario, p, cycles):
         up.append(out["upper"] ^ (mask if p["upper_active_low"] else 0))
         lo.append(out["lower"] ^ (mask if p["lower_active_low"] else 0))
     CARRY["last"] = {name: stim[name][-1] for name in INPUTS}
-    dead = np.maximum(np.array(stim["dead"]), dead_min)
-    turn_ons = check_gate_safety(up, lo, n, dead=dead, kill=expected["fault_input"],
+    turn_ons = check_gate_safety(up, lo, n, dead=in_force, kill=expected["fault_input"],
                                  rst=stim["rst"], dt_run0=dt_run0)
     return stim, expected, turn_ons
 

@@ -212,7 +212,7 @@ class Bench:
             self.offered = self.sine_beat()
         write, read = m.front.access(bus)
         t = self.trace
-        t["dead"].append(m.dead)
+        t["dead"].append(m.driver.dead_in_force)     # the legs act on last clock's DEAD
         t["kill"].append(m.driver.fault_input)
         t["rst"].append(rst)
         t["adc_offset"].append(m.adc_offset)

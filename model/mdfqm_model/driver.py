@@ -43,6 +43,10 @@ dead-time inserter), and the previously-on switch comes back after the dead time
 
 The N-leg driver (:class:`GateDriverModel`)
 -------------------------------------------
+- ``dead`` and ``min_pulse`` reach the legs through a register (``dead_seen``,
+  ``min_pulse_seen``; **not reset**, power-up 0): the legs above act in cycle ``t`` on the
+  values given in cycle ``t - 1``, so a new dead time or minimum pulse acts one clock after it
+  arrives. This lets the gateware decide from flags computed a clock ahead (its Fmax path).
 - Fault synchroniser: two flops (**not reset**, like every synchroniser)
   ``s1 <= fault_in``, ``fault_input <= s1``.
 - Fault latch ``fault`` (reset 0): ``<= 1`` if ``fault_input``, else ``<= 0`` if ``fault_clear``,
@@ -165,6 +169,8 @@ class GateDriverModel:
         self.legs = [LegModel(dead_min, time_width) for _ in range(phases)]
         self.sync1 = 0  # the synchroniser is not reset
         self.fault_input = 0
+        self.dead_seen = 0       # the input registers of dead and min_pulse are not reset
+        self.min_pulse_seen = 0
         self.reset()
 
     def reset(self) -> None:
@@ -180,6 +186,12 @@ class GateDriverModel:
     def up(self) -> int:
         """Upper gates, active-high bitmask."""
         return sum(leg.up << i for i, leg in enumerate(self.legs))
+
+    @property
+    def dead_in_force(self) -> int:
+        """The clamped dead time the legs act on in this cycle (``max(dead_seen, dead_min)``):
+        the ``dead`` trace :func:`check_gate_safety` takes."""
+        return max(self.dead_seen, self.dead_min)
 
     @property
     def lo(self) -> int:
@@ -215,7 +227,8 @@ class GateDriverModel:
         en = enable if update else self.active
         drive = int(en and not fault_active)
         for i, leg in enumerate(self.legs):
-            leg.step(rst, (cmd >> i) & 1, drive, dead, min_pulse)
+            leg.step(rst, (cmd >> i) & 1, drive, self.dead_seen, self.min_pulse_seen)
+        self.dead_seen, self.min_pulse_seen = dead, min_pulse
         if rst:
             self.reset()
         else:

@@ -249,7 +249,8 @@ def test_random_stimulus_is_always_safe(phases, rng):
         "fault_clear": (rng.random(cycles) < 0.05).astype(int),
     }
     out = m.simulate(stim)
-    dead = np.maximum(stim["dead"], 3)
+    # the dead time in force: the legs act on the clock before's input (power-up 0 -> floor)
+    dead = np.maximum(np.concatenate([[0], stim["dead"][:-1]]), 3)
     turn_ons = check_gate_safety(
         out["upper"], out["lower"], phases, dead=dead, kill=out["fault_input"], rst=stim["rst"]
     )
@@ -311,3 +312,29 @@ def test_rejects_bad_inputs(kwargs, message):
     with pytest.raises(ValueError) as info:
         GateDriverModel(3, 1).step(**kwargs)
     assert str(info.value) == message
+
+
+def test_dead_and_min_pulse_act_one_clock_after_they_arrive():
+    """The legs act on the clock before's ``dead`` / ``min_pulse`` (the driver's input
+    register): raising ``dead`` in the clock a turn-on is decided does not stop it, one clock
+    earlier it does; likewise ``min_pulse``."""
+
+    def run(dead_at, min_pulse_at):
+        m = GateDriverModel(1, 2)
+        # the upper on at an update, then commanded off at cycle 20; lower commanded since
+        ups, los = [], []
+        for t in range(40):
+            out = m.step(h=int(t < 20), update=int(t in (0, 20)), enable=1,
+                         dead=20 if t >= dead_at else 2,
+                         min_pulse=30 if t >= min_pulse_at else 0)
+            ups.append(out["upper"])
+            los.append(out["lower"])
+        return ups, los
+
+    ups, los = run(99, 99)
+    turn_off, turn_on = ups.index(0, 3), los.index(1)
+    assert (turn_off, turn_on) == (21, 23)        # two clocks off: dead 2
+    assert run(turn_on - 1, 99)[1].index(1) == turn_on         # raised in the deciding clock
+    assert 1 not in run(turn_on - 2, 99)[1][:turn_on + 1]      # raised the clock before
+    assert run(99, turn_off - 1)[0].index(0, 3) == turn_off    # min_pulse in the deciding clock
+    assert run(99, turn_off - 2)[0].index(0, 3) > turn_off     # and the clock before

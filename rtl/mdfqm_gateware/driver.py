@@ -82,45 +82,87 @@ class LegDriver(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         tw, top = self.time_width, (1 << self.time_width) - 1
-        cnt = Signal(tw)
+        rst = ResetSignal()
+        # the inputs as the leg acts on them: one clock late (the model's dead_seen), so that
+        # the decisions of a clock are flags computed in the clock before (the Fmax path)
+        dead_seen = Signal(tw, reset_less=True)
+        min_pulse_seen = Signal(tw, reset_less=True)
+        # clocks in the present on/off state plus one (the model's cnt + 1), saturating at
+        # 2**tw, and what it becomes next clock if the state holds
+        count = Signal(tw + 1, init=1)
+        count_next = Signal(tw + 1, init=2)
         dt_run = Signal(tw, reset_less=True)
+        # registered decisions: count >= max(dt_run, dead_seen, dead_min), count < min_pulse_seen
+        dead_elapsed = Signal(reset_less=True)
+        pulse_short = Signal(reset_less=True)
         dt = Signal(tw)
-        dt_req = Signal(tw)
+        dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
         nxt_up, nxt_lo = Signal(), Signal()
 
         on = self.upper | self.lower
         want_up = self.drive & self.cmd
         want_lo = self.drive & ~self.cmd
-        m.d.comb += [
-            dt.eq(Mux(self.dead < self.dead_min, self.dead_min, self.dead)),
-            dt_req.eq(Mux(dt_run > dt, dt_run, dt)),
-        ]
+        m.d.comb += dt.eq(dt_expr)
         with m.If(~self.drive):
             m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
         with m.Elif(on):
             held = (self.upper & want_up) | (self.lower & want_lo)
-            with m.If(held | (cnt + 1 < self.min_pulse)):
+            with m.If(held | pulse_short):
                 m.d.comb += [nxt_up.eq(self.upper), nxt_lo.eq(self.lower)]
             with m.Else():
                 m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
-        with m.Elif(cnt + 1 >= dt_req):
+        with m.Elif(dead_elapsed):
             m.d.comb += [nxt_up.eq(want_up), nxt_lo.eq(want_lo)]
         with m.Else():
             m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
 
         nxt_on = nxt_up | nxt_lo
+        restart = rst | (nxt_on != on)      # the next clock starts a new state, count 1
+
+        def decisions(c):
+            """(dead_elapsed, pulse_short) of the next clock if its count is ``c``: dt_run
+            of the next clock is dt (this one's) while on; every compare side by side."""
+            run_ok = Mux(on, c >= dead_seen, c >= dt_run)
+            return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
+
+        elapsed_restart, short_restart = decisions(1)
+        elapsed_hold, short_hold = decisions(count_next)
         m.d.sync += [
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
-            cnt.eq(Mux(nxt_on != on, 0, Mux(cnt == top, top, cnt + 1))),
             self.event.eq(~on & nxt_on),
+            count.eq(Mux(restart, 1, count_next)),
+            count_next.eq(Mux(restart, 2, Mux(count_next == top + 1, top + 1, count_next + 1))),
+            dead_elapsed.eq(Mux(restart, elapsed_restart, elapsed_hold)),
+            pulse_short.eq(Mux(restart, short_restart, short_hold)),
+            dead_seen.eq(self.dead),
+            min_pulse_seen.eq(self.min_pulse),
         ]
         with m.If(on):
             m.d.sync += dt_run.eq(dt)
 
         if self.formal:
-            self._properties(m, on, dt, cnt, dt_run)
+            self._properties(m, on, dt, (count - 1)[:tw], dt_run)
+            # expressions of registers, not comb signals: the simulator evaluates an assert as
+            # soon as any of its inputs changes, before a comb signal has followed
+            self._invariants(m, dt_expr, count, count_next, dt_run, dead_elapsed, pulse_short,
+                             min_pulse_seen)
         return m
+
+    def _invariants(self, m, dt, count, count_next, dt_run, dead_elapsed, pulse_short,
+                    min_pulse_seen):
+        """The registered decisions equal what they stand for (inductive invariants; the
+        properties below do not depend on them being right)."""
+        top = (1 << self.time_width) - 1
+        m.d.comb += [
+            Assert((count >= 1) & (count <= top + 1), "invariant: count in range"),
+            Assert(count_next == Mux(count == top + 1, top + 1, count + 1),
+                   "invariant: count_next is the next count"),
+            Assert(dead_elapsed == ((count >= dt) & (count >= dt_run)),
+                   "invariant: dead_elapsed is the dead-time compare"),
+            Assert(pulse_short == (count < min_pulse_seen),
+                   "invariant: pulse_short is the minimum-pulse compare"),
+        ]
 
     def _properties(self, m, on, dt, cnt, dt_run):
         """Safety properties, on ghost registers independent of the leg's own counter; the
