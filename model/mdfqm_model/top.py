@@ -57,8 +57,8 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   passes ``2**counter_width - 1`` (every per-leg counter wraps no earlier, being at most the
   total since the last clear; not in a ``COUNT_CLEAR`` clock), ``SAMPLE`` in a sampling tick
   (the core's ``sample``: the update that takes the next reference starts, so firmware can
-  write the following one). ``irq = |(IRQ_STATUS & IRQ_ENABLE)`` (registered: it follows both
-  registers in the same clock).
+  write the following one). ``irq <= |(IRQ_STATUS & IRQ_ENABLE)`` (registered from both
+  registers: it follows them one clock later; reset 0).
 - ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= min(elapsed + 1, 2**17 - 1)``;
   ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
   ``s`` the update start, and there is none when ``ADC_OFFSET >= P`` (the update period).
@@ -263,6 +263,7 @@ class TopModel:
         self.adc = 0
         self.irq_enable = 0
         self.irq_status = 0
+        self.irq = 0
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -370,7 +371,7 @@ class TopModel:
             "adc_trigger": self.adc,
             "sync_out": core_out["start"],
             "fault": drv_out["fault"],
-            "irq": int(bool(self.irq_status & self.irq_enable)),
+            "irq": self.irq,
         }
         if rst:
             self.reset()
@@ -400,6 +401,7 @@ class TopModel:
         self.adc_cnt = min(elapsed + 1, (1 << ADC_COUNTER_WIDTH) - 1)
         self.adc = int(elapsed == self.adc_offset)
         # the bus (a write-1-to-clear of IRQ_STATUS loses against an event of the same clock)
+        self.irq = int(bool(self.irq_status & self.irq_enable))   # this clock's registers
         if write is not None:
             self.write(*write)
         self.irq_status |= irq_events

@@ -66,7 +66,8 @@ class MdfqmTop(wiring.Component):
     fault : Out(1)
         The fault latch (registered), for a LED or an interlock.
     irq : Out(1)
-        Interrupt, level, active high (registered): ``IRQ_STATUS & IRQ_ENABLE`` not zero.
+        Interrupt, level, active high (registered): ``IRQ_STATUS & IRQ_ENABLE`` not zero in the
+        clock before.
 
     Parameters
     ----------
@@ -282,9 +283,10 @@ class MdfqmTop(wiring.Component):
         irq_events = Cat(*(sources[1 << bit] for bit in range(irq_bits)))
         cleared = Mux(written(regmap.IRQ_STATUS), word[:irq_bits], 0)
         status_next = (irq_status & ~cleared) | irq_events
-        enable_next = Mux(written(regmap.IRQ_ENABLE), word[:irq_bits], irq_enable)
+        # irq from the registers as they are, not from their next values: a clock later, but off
+        # the path from the bus decode (the top's Fmax path on the UP5K otherwise)
         m.d.sync += [irq_status.eq(status_next),
-                     self.irq.eq((status_next & enable_next).any())]
+                     self.irq.eq((irq_status & irq_enable).any())]
 
         # ---------------------------------------------------------------- ADC trigger
         elapsed = Signal(regmap.ADC_COUNTER_WIDTH)
@@ -296,8 +298,11 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver)
-            m.d.comb += [Assert(self.irq == (irq_status & irq_enable).any(),
-                                "irq is not IRQ_STATUS & IRQ_ENABLE"),
+            irq_was = Signal(reset_less=True)       # IRQ_STATUS & IRQ_ENABLE, a clock ago
+            rst_prev = Signal(reset_less=True)
+            m.d.sync += [irq_was.eq((irq_status & irq_enable).any()), rst_prev.eq(ResetSignal())]
+            m.d.comb += [Assert(self.irq == (irq_was & ~rst_prev),
+                                "irq is not IRQ_STATUS & IRQ_ENABLE of the clock before"),
                          Cover(self.irq & irq_status[0])]
         return m
 

@@ -434,7 +434,7 @@ REGISTERS = (
         "doc": (
             "interrupt status. The IRQ_ENABLE sources; each bit is set the clock after its event; "
             "write 1 to clear, an event in the same clock wins; other bits ignored. irq is high "
-            "while a bit is set here and in IRQ_ENABLE."
+            "from the clock after a bit is set here and in IRQ_ENABLE."
         ),
         "count": 1,
         "fields": (
