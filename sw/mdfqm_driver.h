@@ -1,0 +1,85 @@
+/* Firmware driver for the mdfqm drop-in top (MdfqmTop, Wishbone or AXI4-Lite front).
+ *
+ * Portable C99, no allocation, no platform headers: every register access goes through the two
+ * callbacks of mdfqm_bus_t, so the same code runs on memory-mapped hardware (mdfqm_mmio_bus)
+ * and in a simulation harness (sw/sim/harness.cpp). Register offsets and fields come only from
+ * the header generated from the SystemRDL map (build/generated/mdfqm_top_regs.h).
+ */
+#ifndef MDFQM_DRIVER_H
+#define MDFQM_DRIVER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "mdfqm_top_regs.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Byte-offset register access; ctx is the caller's (a base address, a simulator handle). */
+typedef struct {
+    uint32_t (*read)(void *ctx, uint32_t offset);
+    void (*write)(void *ctx, uint32_t offset, uint32_t value);
+    void *ctx;
+} mdfqm_bus_t;
+
+/* One instance: its bus and the elaboration parameters read from INFO and DEAD_MIN. */
+typedef struct {
+    mdfqm_bus_t bus;
+    unsigned phases;
+    unsigned width;          /* reference code width: codes in [-2**(width-1), 2**(width-1)-1] */
+    unsigned latency;        /* loop latency L: PERIOD below it is raised to it */
+    unsigned dead_min;       /* dead-time floor in clocks */
+    bool exact_nearest;      /* rule: 0 largest_duty, 1 exact_nearest */
+    bool upper_active_low;
+    bool lower_active_low;
+} mdfqm_t;
+
+/* What the interrupt handler found (and acknowledged). */
+typedef struct {
+    bool fault;              /* the fault latch set: gates are off until mdfqm_clear_fault */
+    bool counter_wrap;       /* EVENTS_TOTAL wrapped */
+    bool sample;             /* a sampling tick: write the next reference now */
+} mdfqm_irq_causes_t;
+
+/* An mdfqm_bus_t for a memory-mapped instance at base (volatile 32-bit accesses). */
+mdfqm_bus_t mdfqm_mmio_bus(volatile uint32_t *base);
+
+/* Checks ID, reads INFO and DEAD_MIN. Returns 0, or -1 if ID is not "MDFQ" (wrong address). */
+int mdfqm_init(mdfqm_t *dev, mdfqm_bus_t bus);
+
+/* Runtime settings, each clamped by the IP as docs/top.md says (PERIOD >= latency, DEAD >=
+ * dead_min, 16-bit saturation). The enable is taken at the next update boundary. */
+void mdfqm_set_period(const mdfqm_t *dev, uint32_t clocks);
+void mdfqm_set_osr(const mdfqm_t *dev, uint32_t updates);
+void mdfqm_set_dead_time(const mdfqm_t *dev, uint32_t clocks);
+void mdfqm_set_min_pulse(const mdfqm_t *dev, uint32_t clocks);
+void mdfqm_set_adc_offset(const mdfqm_t *dev, uint32_t clocks);
+/* The core's zero-vector policy (CTRL.ZERO_POLICY): false all-off, true fewer transitions. */
+void mdfqm_set_zero_policy(const mdfqm_t *dev, bool fewer_transitions);
+void mdfqm_enable(const mdfqm_t *dev, bool on);
+
+/* Writes REF[0..phases-1] (saturated by the IP to the code range) and commits them as one
+ * beat: the core takes them at its next sampling tick. */
+void mdfqm_write_reference(const mdfqm_t *dev, const int32_t *codes);
+
+uint32_t mdfqm_status(const mdfqm_t *dev);
+uint32_t mdfqm_events(const mdfqm_t *dev, unsigned leg);
+uint32_t mdfqm_events_total(const mdfqm_t *dev);
+void mdfqm_clear_counters(const mdfqm_t *dev);
+/* Clears the fault latch; it stays set while the fault input is still active. Returns whether
+ * the latch is clear afterwards. Gates resume at the next update boundary with the enable. */
+bool mdfqm_clear_fault(const mdfqm_t *dev);
+
+/* IRQ_ENABLE sources (MDFQM_TOP__IRQ_ENABLE__*_bm). */
+void mdfqm_irq_enable(const mdfqm_t *dev, uint32_t sources);
+/* Call on the irq line: reads IRQ_STATUS, acknowledges exactly the bits it read (write 1 to
+ * clear; an event arriving meanwhile stays set and raises irq again), returns the causes. */
+mdfqm_irq_causes_t mdfqm_irq_handle(const mdfqm_t *dev);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MDFQM_DRIVER_H */
