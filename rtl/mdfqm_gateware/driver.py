@@ -47,9 +47,10 @@ class LegDriver(wiring.Component):
     drive : In(1)
         0: both switches off on the next clock (disable, fault). Read in every cycle.
     dead : In(time_width)
-        Dead time in clocks; values below ``dead_min`` act as ``dead_min``. Read in every cycle.
+        Dead time in clocks; values below ``dead_min`` act as ``dead_min``. Read in every cycle;
+        the leg acts on it one clock later (an input register).
     min_pulse : In(time_width)
-        Minimum on-time in clocks (0 and 1: none). Read in every cycle.
+        Minimum on-time in clocks (0 and 1: none). Read in every cycle, acted on one clock later.
     upper, lower : Out(1)
         Gates, active-high, registered (reset 0).
     event : Out(1)
@@ -224,7 +225,8 @@ class GateDriver(wiring.Component):
     enable : In(1)
         Requested enable; taken at update boundaries.
     dead, min_pulse : In(time_width)
-        Dead time (clamped to ``dead_min``) and minimum on-time in clocks; read every cycle.
+        Dead time (clamped to ``dead_min``) and minimum on-time in clocks; read every cycle,
+        acted on one clock later.
     fault_in : In(1)
         Asynchronous, active-high fault (desaturation / over-current / driver fault); passes a
         two-flop synchroniser (not reset). A pulse must span a rising clock edge to be seen.
