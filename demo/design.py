@@ -22,7 +22,7 @@ from amaranth.lib.wiring import In, Out, connect
 
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec import regmap as top_map
-from mdfqm_spec.contract import Contract
+from mdfqm_spec.contract import Contract, validate_top_max_bits
 from mdfqm_spec.regmap import ID_VALUE, INFO_TOP, TOP_BASE, demo_window
 from mdfqm_spec.validate import validate_positive
 
@@ -70,6 +70,9 @@ class DemoConfig:
         ``MIN_PULSE`` after reset (rounded up to whole clocks).
     dead_min_ns :
         The top's dead-time floor (elaboration parameter, at least one clock).
+    max_bits : int
+        The top's ``max_bits``: 0 (the default) builds the MDFQM-only top, which every board
+        fits; 1 .. min(12, width - 2) the whole generator (SVPWM, DPWM, b-bit) behind the bus.
     bus_timeout, frame_timeout : int or None
         The bridge's (default frame timeout: 30 byte times).
     """
@@ -77,7 +80,7 @@ class DemoConfig:
     def __init__(self, clk_hz, baud=115200, phases=3, width=16, buttons=(), debounce=None,
                  acc_bits=32, table_bits=8, sample_width=16, quarter=True, freq_hz=50.0,
                  amplitude=0.5, update_hz=100e3, dead_ns=500, min_pulse_ns=0, dead_min_ns=200,
-                 bus_timeout=64, frame_timeout=None):
+                 bus_timeout=64, frame_timeout=None, max_bits=0):
         self.clk_hz = validate_positive(clk_hz, "clk_hz", minimum=1_000_000)
         self.baud = baud
         self.divider = uart_divider(clk_hz, baud)
@@ -103,6 +106,7 @@ class DemoConfig:
         self.frame_timeout = 300 * self.divider if frame_timeout is None else frame_timeout
         self.dead_min = validate_positive(max(1, _clocks(dead_min_ns, clk_hz)), "dead_min",
                                           maximum=0xFFFF)
+        self.max_bits = validate_top_max_bits(max_bits, width)
         self.amp_step = self.contract.full // 32
         #: (address, value) written to the top by the bus sequencer after reset
         self.top_init = (
@@ -127,7 +131,7 @@ class DemoConfig:
                 "acc_bits": self.acc_bits, "table_bits": self.table_bits,
                 "sample_width": self.sample_width, "quarter": self.quarter,
                 "dead_min": self.dead_min, "bus_timeout": self.bus_timeout,
-                "frame_timeout": self.frame_timeout}
+                "frame_timeout": self.frame_timeout, "max_bits": self.max_bits}
 
 
 class DemoDesign(wiring.Component):
@@ -198,7 +202,7 @@ class DemoDesign(wiring.Component):
                                                 settable=("NCO_FREQ", "NCO_AMP"))
         m.submodules.nco = nco = SineNco(n, c.width, c.acc_bits, c.table_bits, c.sample_width,
                                          c.quarter)
-        m.submodules.top = top = MdfqmTop(n, c.width, dead_min=c.dead_min)
+        m.submodules.top = top = MdfqmTop(n, c.width, dead_min=c.dead_min, max_bits=c.max_bits)
 
         m.d.comb += [urx.rx.eq(self.uart_rx), self.uart_tx.eq(utx.tx)]
         connect(m, urx.o, bridge.rx)

@@ -48,6 +48,8 @@ int mdfqm_init(mdfqm_t *dev, mdfqm_bus_t bus)
     dev->exact_nearest = FIELD(info, INFO, RULE) != 0u;
     dev->upper_active_low = FIELD(info, INFO, UPPER_ACTIVE_LOW) != 0u;
     dev->lower_active_low = FIELD(info, INFO, LOWER_ACTIVE_LOW) != 0u;
+    dev->max_bits = FIELD(info, INFO, MAX_BITS);
+    dev->modes = FIELD(info, INFO, MODES);
     dev->dead_min = FIELD(rd(dev, MDFQM_TOP__DEAD_MIN_OFFSET), DEAD_MIN, DEAD_MIN);
     return 0;
 }
@@ -128,6 +130,20 @@ bool mdfqm_clear_fault(const mdfqm_t *dev)
     return FIELD(mdfqm_status(dev), STATUS, FAULT) == 0u;
 }
 
+void mdfqm_set_modulation(const mdfqm_t *dev, unsigned mode, unsigned bits)
+{
+    wr(dev, MDFQM_TOP__MODULATION_OFFSET,
+       (((uint32_t)mode << MDFQM_TOP__MODULATION__MODE_bp) & MDFQM_TOP__MODULATION__MODE_bm)
+       | (((uint32_t)bits << MDFQM_TOP__MODULATION__BITS_bp) & MDFQM_TOP__MODULATION__BITS_bm));
+}
+
+void mdfqm_modulation_in_force(const mdfqm_t *dev, unsigned *mode, unsigned *bits)
+{
+    uint32_t word = rd(dev, MDFQM_TOP__MODULATION_OFFSET);
+    *mode = FIELD(word, MODULATION, MODE);
+    *bits = FIELD(word, MODULATION, BITS);
+}
+
 void mdfqm_irq_enable(const mdfqm_t *dev, uint32_t sources)
 {
     wr(dev, MDFQM_TOP__IRQ_ENABLE_OFFSET, sources);
@@ -141,5 +157,6 @@ mdfqm_irq_causes_t mdfqm_irq_handle(const mdfqm_t *dev)
     causes.fault = FIELD(status, IRQ_STATUS, FAULT) != 0u;
     causes.counter_wrap = FIELD(status, IRQ_STATUS, COUNTER_WRAP) != 0u;
     causes.sample = FIELD(status, IRQ_STATUS, SAMPLE) != 0u;
+    causes.short_edge = FIELD(status, IRQ_STATUS, SHORT_EDGE) != 0u;
     return causes;
 }

@@ -34,6 +34,8 @@ typedef struct {
     bool exact_nearest;      /* rule: 0 largest_duty, 1 exact_nearest */
     bool upper_active_low;
     bool lower_active_low;
+    unsigned max_bits;       /* largest b of the slot modes; 0: the MDFQM-only top */
+    unsigned modes;          /* modulation modes built in: MODULATION.MODE codes 0..modes-1 */
 } mdfqm_t;
 
 /* What the interrupt handler found (and acknowledged). */
@@ -41,7 +43,13 @@ typedef struct {
     bool fault;              /* the fault latch set: gates are off until mdfqm_clear_fault */
     bool counter_wrap;       /* EVENTS_TOTAL wrapped */
     bool sample;             /* a sampling tick: write the next reference now */
+    bool short_edge;         /* a pulse shorter than dead time + minimum pulse was swallowed or
+                                stretched (a slot or an update too short for the settings) */
 } mdfqm_irq_causes_t;
+
+/* MODULATION.MODE codes (docs/top.md, "Modulation mode and resolution"). */
+enum { MDFQM_MODE_MDFQM = 0, MDFQM_MODE_SVPWM = 1, MDFQM_MODE_DPWM0 = 2, MDFQM_MODE_DPWM1 = 3,
+       MDFQM_MODE_DPWM = 4 };
 
 /* An mdfqm_bus_t for a memory-mapped instance at base (volatile 32-bit accesses). */
 mdfqm_bus_t mdfqm_mmio_bus(volatile uint32_t *base);
@@ -58,6 +66,12 @@ void mdfqm_set_min_pulse(const mdfqm_t *dev, uint32_t clocks);
 void mdfqm_set_adc_offset(const mdfqm_t *dev, uint32_t clocks);
 /* The core's zero-vector policy (CTRL.ZERO_POLICY): false all-off, true fewer transitions. */
 void mdfqm_set_zero_policy(const mdfqm_t *dev, bool fewer_transitions);
+/* Request a modulation mode and resolution b (2**b slots per update in the slot modes); the
+ * next update start takes them, clamped (a mode not built in acts as MDFQM, b to [1, max_bits];
+ * STATUS.MODE_CLAMPED flags that update). */
+void mdfqm_set_modulation(const mdfqm_t *dev, unsigned mode, unsigned bits);
+/* The mode and b in force (those of the last update start, after the clamp). */
+void mdfqm_modulation_in_force(const mdfqm_t *dev, unsigned *mode, unsigned *bits);
 void mdfqm_enable(const mdfqm_t *dev, bool on);
 
 /* Writes REF[0..phases-1] (saturated by the IP to the code range) and commits them as one

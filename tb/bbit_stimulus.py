@@ -28,7 +28,8 @@ from mdfqm_model.clock import GeneratorModel
 from mdfqm_spec.contract import MODES, min_period
 
 #: port name -> model output name
-OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped"}
+OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
+           "mode_in_force": "mode_in_force", "bits_in_force": "bits_in_force"}
 SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes")
 INPUTS = ("rst", "ref__valid", "ref__payload", "period", "osr", "zero_policy", "sync_in",
           "mode", "bits")
@@ -132,5 +133,6 @@ def generate_core(rng, scenario, contract, rule, cycles):
     stim, expected = core_stimulus.generate(rng, scenario, contract, rule, cycles)
     stim["mode"] = [0] * cycles
     stim["bits"] = [rng.randint(0, 15) for _ in range(cycles)]
-    expected["mode_clamped"] = [0] * cycles
+    for name in ("mode_clamped", "mode_in_force", "bits_in_force"):
+        expected[name] = [0] * cycles
     return stim, expected

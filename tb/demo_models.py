@@ -335,7 +335,7 @@ class DemoModel:
         self.demo_window = demo_window(n, c.width, c.acc_bits)
         self.demo = RegisterBankModel(self.demo_window, c.demo_init)
         self.nco = NcoModel(n, c.width, c.acc_bits, c.table_bits, c.sample_width)
-        self.top = TopModel(n, c.width, dead_min=c.dead_min)
+        self.top = TopModel(n, c.width, dead_min=c.dead_min, max_bits=c.max_bits)
         self.top_base, self.top_width = TOP_BASE, top_map.ADDR_WIDTH
         self.buttons = ButtonsModel(len(c.buttons), c.debounce) if c.buttons else None
         self.cycles, self.switches = 0, [0] * n

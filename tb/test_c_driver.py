@@ -33,7 +33,7 @@ def top_params():
     top._MustUse__used = True     # only its parameters are read here
     return top, {k: getattr(top, k) for k in ("phases", "width", "rule", "dead_min",
                                                "upper_active_low", "lower_active_low", "bus",
-                                               "counter_width")}
+                                               "counter_width", "max_bits")}
 
 
 @pytest.fixture(scope="module")
@@ -102,9 +102,11 @@ def test_the_driver_did_its_job(run_log):
     for line in run_log:
         tag, *rest = line.split()
         tagged.setdefault(tag, []).append(rest)
-    ok, phases, width, latency, dead_min = map(int, tagged["INIT"][0])
+    ok, phases, width, latency, dead_min, max_bits, modes = map(int, tagged["INIT"][0])
     assert (ok, phases, width, dead_min) == (0, p["phases"], p["width"], p["dead_min"])
-    assert latency == make_model(p).latency
+    model = make_model(p)
+    assert (latency, max_bits, modes) == (model.latency, model.max_bits, 5) and max_bits >= 3
+    assert tagged["MODULATION"][0] == ["1", "3"], "SVPWM at b = 3 not in force"
     causes = [tuple(map(int, c)) for c in tagged["IRQ"]]
     samples, faults = map(int, tagged["DONE"][0])
     assert sum(c[2] for c in causes) == samples > 50, "sampling interrupts not served"

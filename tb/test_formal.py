@@ -136,14 +136,10 @@ def test_sby_proves_the_bus_front_rules(bus):
 
 
 
-class FreeCore(wiring.Component):
-    """A core whose every output is chosen freely by the solver in every clock (``AnySeq``):
-    proving the top's properties over it proves them for any core behaviour."""
-
-    def __init__(self, phases, width, rule, formal=False):
-        reference = MdfqmCore(phases, width, rule)
-        self.latency = reference.latency
-        super().__init__(reference.signature)
+class FreeOutputs(wiring.Component):
+    """A component whose every output is chosen freely by the solver in every clock
+    (``AnySeq``): proving the top's properties over it proves them for any behaviour of the
+    block it stands in for."""
 
     def elaborate(self, platform):
         from amaranth.hdl._ast import AnySeq  # not re-exported by amaranth.hdl in 0.5
@@ -155,36 +151,69 @@ class FreeCore(wiring.Component):
         return m
 
 
+class FreeCore(FreeOutputs):
+    """Any core: any gate state and strobes in any clock."""
+
+    def __init__(self, phases, width, rule, formal=False):
+        reference = MdfqmCore(phases, width, rule)
+        self.latency = reference.latency
+        super().__init__(reference.signature)
+
+
+class FreeGenerator(FreeOutputs):
+    """Any generator: any gate state (so any edge inside an update), strobes, mode and b in
+    force, in any clock."""
+
+    def __init__(self, phases, width, rule, max_bits, formal=False):
+        reference = GatingSignalGenerator(phases, width, rule, max_bits)
+        self.latency, self.long_latency = reference.latency, reference.long_latency
+        super().__init__(reference.signature)
+
+
 # The whole top's bounded cover run (24 clocks) cannot drive an integrator into saturation,
 # which takes many overmodulated updates; that cover is reached in the integrator's own run
 # and in the generator's (above).
 SATURATION_COVER_OUT_OF_DEPTH = ("cd dut.core.integrator", "delete r:FLAVOR=cover", "cd")
 
 
-@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks", "bus"), [
-    ("free", 3, 64, ("prove",), "wishbone"), ("free", 5, 64, ("prove",), "wishbone"),
-    ("free", 3, 2, ("prove", "cover"), "wishbone"), ("real", 3, 64, ("prove",), "wishbone"),
-    ("real", 5, 64, ("prove",), "wishbone"), ("real", 3, 2, ("cover",), "wishbone"),
-    ("free", 3, 2, ("prove", "cover"), "axi4lite"), ("real", 3, 64, ("prove",), "axi4lite"),
-    pytest.param("real", 5, 2, ("cover",), "wishbone", marks=pytest.mark.long_proof)])  # 176 s
-def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, monkeypatch):
-    """k-induction over the whole top at the drop-in size (N = 3 and N = 5), with the real core
-    and with a free one (any ``h``, ``update``, ``start``, stream ``ready`` in any clock: the
-    driver's properties hold for any core behaviour). With the real core the run also proves
-    the core's properties in place, none of them assumed: the integrators never wrap, sort1 is a
-    stable descending sort, sort2 picks the first maximum, the state is a candidate and the
-    feedback its voltage. Depth: sort1's latency + 2, so a sorted output has passed the whole
-    network inside the induction window. The free cover run reaches gates switching after an
-    enable through the bus, a fault cleared through the bus, both switches of every leg turning
-    on; the real one also every gate state as an update's result (both zero states through the
-    zero policy; at N = 5 all-on needs a second update, 34 clocks: `make prove-long`). Behind
-    the AXI4-Lite front the same, with that front's handshake rules proved in place."""
+@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks", "bus", "max_bits"), [
+    ("free", 3, 64, ("prove",), "wishbone", 8), ("free", 5, 64, ("prove",), "wishbone", 8),
+    ("free", 3, 2, ("prove", "cover"), "wishbone", 8),
+    ("free", 3, 2, ("prove", "cover"), "axi4lite", 8),
+    ("free", 3, 2, ("prove",), "wishbone", 0),
+    ("real", 3, 64, ("prove",), "wishbone", 2), ("real", 3, 64, ("prove",), "axi4lite", 2),
+    ("real", 3, 64, ("prove",), "wishbone", 0), ("real", 5, 64, ("prove",), "wishbone", 0),
+    ("real", 3, 2, ("cover",), "wishbone", 0),
+    pytest.param("real", 3, 64, ("prove",), "wishbone", 8, marks=pytest.mark.long_proof),
+    pytest.param("real", 5, 64, ("prove",), "wishbone", 4, marks=pytest.mark.long_proof),
+    pytest.param("real", 3, 2, ("cover",), "wishbone", 1, marks=pytest.mark.long_proof),
+    pytest.param("real", 5, 2, ("cover",), "wishbone", 0, marks=pytest.mark.long_proof)])
+def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_bits,
+                                       monkeypatch):
+    """k-induction over the whole top at the drop-in size (N = 3 and N = 5), with the real
+    generator (or core, ``max_bits`` 0) and with a free one (any ``h``, ``update``, ``start``,
+    stream ``ready``, mode in force in any clock: the driver's properties hold for any
+    behaviour, edges inside an update included). With the real generator or core the run also
+    proves its properties in place, none of them assumed: the integrators never wrap, sort1 is
+    a stable descending sort, sort2 picks the first maximum, the state is a candidate and the
+    feedback its voltage, the mode and b in force are legal. Depth: sort1's latency + 2, so a
+    sorted output has passed the whole network inside the induction window. The free cover run
+    reaches gates switching after an enable through the bus, a fault cleared through the bus,
+    both switches of every leg turning on, a turn-on in every mode and one after an edge inside
+    a slot-mode update; the real core's every gate state as an update's result (both zero
+    states through the zero policy; at N = 5 all-on needs a second update, 34 clocks), the real
+    generator's a turn-on in every mode written through the bus and after a slot edge (48
+    clocks): those and the proofs with the generator at the drop-in's b run in
+    `make prove-long`."""
     if core == "free":
         monkeypatch.setattr(top_module, "MdfqmCore", FreeCore)
+        monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
     cover_depth = {"free": 14, "real": 24 if phases == 3 else 34}[core]
+    if core == "real" and max_bits:
+        cover_depth = 48
     depth = {"prove": len(sorting_network(phases)) + 2, "cover": cover_depth}
-    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, bus=bus, formal=True),
-            f"top_{core}_n{phases}_dmin{dead_min}_{bus}", depth, tasks,
+    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, bus=bus, max_bits=max_bits, formal=True),
+            f"top_{core}_n{phases}_dmin{dead_min}_{bus}_b{max_bits}", depth, tasks,
             mutation=SATURATION_COVER_OUT_OF_DEPTH if core == "real" else ())
 
 

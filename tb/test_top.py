@@ -1,9 +1,10 @@
 # amaranth: UnusedElaboratable=no
-"""The drop-in top (core + gate driver + Wishbone registers + counters + ADC trigger), every
-output on every clock, against mdfqm_model.top.TopModel; independent checks of the safety
-properties, the switching counters and the ADC trigger on the same traces; two instances sharing
-update boundaries through sync_out -> sync_in. The top's SymbiYosys proofs and covers are in
-tb/test_formal.py."""
+"""The drop-in top (generator or core + gate driver + Wishbone or AXI4-Lite registers +
+counters + ADC trigger), every output on every clock, against mdfqm_model.top.TopModel, with
+random MODULATION writes (mode and b, legal or not) inside every scenario; independent checks
+of the safety properties, the switching counters and the ADC trigger on the same traces; two
+instances sharing update boundaries through sync_out -> sync_in. The top's SymbiYosys proofs
+and covers are in tb/test_formal.py."""
 
 import math
 from collections import deque
@@ -20,11 +21,13 @@ from mdfqm_gateware.top import MdfqmTop
 from mdfqm_model.driver import check_gate_safety
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
+from mdfqm_spec.contract import MODES, min_period
 
-# (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus, counter_width)
-CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone", 32),
-         (5, 16, "exact_nearest", 5, True, True, "wishbone", 32),
-         (3, 16, "largest_duty", 4, False, True, "axi4lite", 8)]
+# (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus, counter_width,
+#  max_bits): the generator at the drop-in's b, a smaller one, the MDFQM-only top
+CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone", 32, 8),
+         (5, 16, "exact_nearest", 5, True, True, "wishbone", 32, 4),
+         (3, 16, "largest_duty", 4, False, True, "axi4lite", 8, 0)]
 SINGLE_TESTS = ["top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
                 "top_fault", "top_interrupt", "top_bad_input"]
 
@@ -45,7 +48,7 @@ def port_name(name: str) -> str:
 def make_model(p):
     return TopModel(p["phases"], p["width"], p["rule"], p["dead_min"], p["upper_active_low"],
                     p["lower_active_low"], bus=p.get("bus", "wishbone"),
-                    counter_width=p.get("counter_width", 32))
+                    counter_width=p.get("counter_width", 32), max_bits=p.get("max_bits"))
 
 
 class WishboneMaster:
@@ -180,7 +183,8 @@ class Bench:
         self.stim = {prefix + name: [] for name in inputs}
         self.expected = {prefix + name: [] for name in outputs}
         self.trace = {k: [] for k in ("up", "lo", "dead", "kill", "rst", "adc_offset",
-                                      "count_clear")}
+                                      "count_clear", "short_edge", "mode")}
+        self.mode_cycle = []         # MODULATION modes still to be written (random order)
         self.issued_reads = deque()  # (issue cycle, address) of reads not yet answered
         self.reads = []          # (issue cycle, address, value)
         self.last = {}           # the last cycle's inputs, held through the reset of the next run
@@ -196,6 +200,21 @@ class Bench:
 
     def idle(self):
         return not self.master.busy() and not self.ops
+
+    def modulation(self, mode=None, bits=None):
+        """Write MODULATION: the given mode and b, or random ones (mostly legal, small b so
+        that updates stay short; now and then a mode not built in, b 0, above max_bits, 15)."""
+        rng = self.rng
+        if mode is None:
+            if not self.mode_cycle:             # every mode within each six writes
+                self.mode_cycle = [*range(len(MODES)), rng.randrange(8)]
+                rng.shuffle(self.mode_cycle)
+            mode = self.mode_cycle.pop()
+        if bits is None:
+            bits = rng.choice([1, 1, 2, 2, 3, 4, 0, 15, rng.randrange(16)])
+        self.write(regs.MODULATION, mode << regs.MODULATION_MODE_SHIFT
+                   | bits << regs.MODULATION_BITS_SHIFT | rng.choice([0, 0, 0xF0F8]))
+        self.read(regs.MODULATION)
 
     def sine_beat(self):
         c = self.model.contract
@@ -220,6 +239,8 @@ class Bench:
                                     and bool(write[1] & regs.CMD_COUNT_CLEAR)))
         t["up"].append(m.driver.up)
         t["lo"].append(m.driver.lo)
+        t["short_edge"].append(m.driver.short_edge)
+        t["mode"].append(getattr(m.core, "mode_lat", 0))
         if read is not None and not rst:
             self.issued_reads.append((self.cycle, read))
         payload, ref_valid = self.offered or [0] * self.n, int(self.offered is not None)
@@ -295,14 +316,20 @@ def configure(b, period, dead, min_pulse=0, osr=1, adc_offset=0, ctrl=regs.CTRL_
     b.write(regs.CTRL, ctrl)
 
 
-async def run_bench(dut, name, build, min_turn_ons=20):
-    """Generate with ``build(bench)``, then drive the DUT and compare every cycle."""
+async def run_bench(dut, name, build, min_turn_ons=20, modes_seen=None):
+    """Generate with ``build(bench)``, then drive the DUT and compare every cycle. With a
+    generator inside, the modes in ``modes_seen`` (default: every mode) must each have been in
+    force in some cycle of the run."""
     p = params()
     rng = seeded_rng(dut, name)
     bench = begin(p, rng)
     build(bench, rng, p)
     turn_ons = finish(bench)
     assert turn_ons >= min_turn_ons, f"{name}: only {turn_ons} turn-ons, the test is vacuous"
+    if bench.model.max_bits:
+        want = set(range(len(MODES))) if modes_seen is None else modes_seen
+        missing = want - set(bench.trace["mode"])
+        assert not missing, f"{name}: modes {sorted(missing)} never in force"
     await start(dut)
     checked = await check_cycles(dut, bench.stim, bench.expected)
     dut._log.info("%s: %d cycles, %d turn-ons, every output equal to the model", name,
@@ -323,10 +350,12 @@ def build_operate(b, rng, p):
             b.write(regs.MIN_PULSE, rng.choice([0, 3, 15]))
             b.write(regs.CTRL, rng.choice([1, 1, 3, 0, 2]))         # enable toggled mid-update
             b.amplitude = rng.uniform(0.1, 0.6)
+        if round_ % 5 in (0, 3):
+            b.modulation()
         for address in (regs.STATUS, regs.GATES, regs.EVENTS_TOTAL, regs.CTRL, regs.DEAD):
             b.read(address)
         b.run_until_idle()
-        for _ in range(rng.randint(50, 250)):
+        for _ in range(rng.randint(150, 350)):
             b.tick()
 
 
@@ -347,6 +376,8 @@ def build_register_reference(b, rng, p):
             b.write(regs.CMD, regs.CMD_REF_COMMIT)        # a second commit while pending
         b.read(regs.STATUS)
         b.read(regs.REF_BASE + rng.randrange(b.n))
+        if k % 6 == 0:
+            b.modulation()
         both = k % 5 == 0
         b.run_until_idle(stream=both)
         for _ in range(rng.randint(20, 90)):
@@ -363,6 +394,8 @@ def build_counters(b, rng, p):
         b.read(regs.EVENTS_TOTAL)
         if round_ % 6 == 5:
             b.write(regs.CMD, regs.CMD_COUNT_CLEAR)
+        if round_ % 4 == 0:
+            b.modulation()
         b.run_until_idle()
         for _ in range(rng.randint(30, 200)):
             b.tick()
@@ -385,16 +418,23 @@ def build_counters(b, rng, p):
 
 
 def build_adc_trigger(b, rng, p):
-    """The ADC trigger at s + 1 + ADC_OFFSET of every update; none when ADC_OFFSET >= P."""
-    for period, offset in ((20, 0), (20, 7), (20, 19), (20, 20), (33, 31), (0, 3)):
+    """The ADC trigger at s + 1 + ADC_OFFSET of every update (s the update start, in every
+    mode); none when ADC_OFFSET >= P, P the period in force (slot modes: at least L_b and
+    2**b)."""
+    slot = [(40, 3, 1, 2), (24, 23, 4, 1), (70, 69, 2, 2)] if b.model.max_bits else []
+    for period, offset, mode, bits in [(20, 0, 0, 0), (20, 7, 0, 0), (20, 19, 0, 0),
+                                       (20, 20, 0, 0), (33, 31, 0, 0), (0, 3, 0, 0), *slot]:
         b.write(regs.PERIOD, period)
         b.write(regs.ADC_OFFSET, offset)
+        b.modulation(mode, bits)
         b.write(regs.CTRL, regs.CTRL_ENABLE)
         b.run_until_idle()
-        first = b.cycle
-        for _ in range(6 * max(period, b.model.latency) + 3):
+        p_eff = max(period, min_period(mode != 0, bits, b.model.latency, b.model.long_latency))
+        for _ in range(2 * p_eff):             # the update that takes the new mode starts
             b.tick()
-        p_eff = max(period, b.model.latency)
+        first = b.cycle
+        for _ in range(6 * p_eff + 3):
+            b.tick()
         sync = np.array(b.expected["sync_out"][first:])
         adc = np.array(b.expected["adc_trigger"][first:])
         starts = np.flatnonzero(sync)
@@ -413,7 +453,7 @@ def build_fault(b, rng, p):
     configure(b, period=18, dead=4)
     b.run_until_idle()
     chatter = 0
-    for _ in range(5000):
+    for cycle in range(5000):
         if rng.random() < 0.004:
             chatter = rng.choice([1, 2, 7, 30])
         fault_in = 0
@@ -423,13 +463,16 @@ def build_fault(b, rng, p):
         if b.idle() and rng.random() < 0.05:
             b.write(regs.CMD, regs.CMD_FAULT_CLEAR)
             b.read(regs.STATUS)
+        if cycle % 600 == 0:
+            b.modulation()
         b.tick(fault_in=fault_in)
 
 
 def build_interrupt(b, rng, p):
     """Firmware serving the interrupt: every source enabled at times, IRQ_STATUS read and cleared
     when irq is high (also in the clock of a new event), faults, sampling ticks, counters run
-    past their width (8 bits in one configuration: it wraps every 256 turn-ons)."""
+    past their width (8 bits in one configuration: it wraps every 256 turn-ons), short edges
+    (a minimum pulse longer than the update period for a while)."""
     configure(b, period=10, dead=2, osr=2)
     b.write(regs.IRQ_ENABLE, regs.IRQ_MASK)
     b.run_until_idle()
@@ -438,6 +481,10 @@ def build_interrupt(b, rng, p):
     for cycle in range(8000):
         fault_in = int(cycle % 1500 in range(700, 706))
         clear_due |= cycle % 1500 == 720
+        if cycle % 1000 == 0:
+            b.modulation()
+        if cycle in (3000, 3600):
+            b.write(regs.MIN_PULSE, 30 if cycle == 3000 else 0)
         if b.idle():
             if clear_due:
                 b.write(regs.CMD, regs.CMD_FAULT_CLEAR)
@@ -465,7 +512,9 @@ def build_interrupt(b, rng, p):
     on = up | lo
     turn_ons = sum(bin(int(v)).count("1") for v in on[1:] & ~on[:-1])
     wraps = turn_ons >= (1 << p["counter_width"]) + 2 * b.n     # some before the first clear
-    assert seen & regs.IRQ_MASK == (regs.IRQ_MASK if wraps else regs.IRQ_FAULT | regs.IRQ_SAMPLE)
+    assert any(b.trace["short_edge"]), "no short edge: SHORT_EDGE untested"
+    assert seen & regs.IRQ_MASK == (regs.IRQ_MASK if wraps else regs.IRQ_MASK
+                                    & ~regs.IRQ_COUNTER_WRAP)
     assert wraps or p["counter_width"] == 32, f"only {turn_ons} turn-ons: no counter wrapped"
 
 
@@ -519,7 +568,8 @@ async def top_counters(dut):
 @cocotb.test()
 async def top_adc_trigger(dut):
     """ADC trigger position against the update starts, offsets inside and outside the period."""
-    await run_bench(dut, "top_adc_trigger", build_adc_trigger, min_turn_ons=5)
+    await run_bench(dut, "top_adc_trigger", build_adc_trigger, min_turn_ons=5,
+                    modes_seen={0, 1, 2, 4})
 
 
 @cocotb.test()
@@ -537,18 +587,18 @@ async def top_interrupt(dut):
 @cocotb.test()
 async def top_bad_input(dut):
     """Random addresses and values, resets, faults and sync pulses: the gates stay safe."""
-    await run_bench(dut, "top_bad_input", build_bad_input)
+    await run_bench(dut, "top_bad_input", build_bad_input, modes_seen=set())
 
 
 @pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low", "bus",
-                          "counter_width"), CASES)
-def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus, counter_width):
+                          "counter_width", "max_bits"), CASES)
+def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus, counter_width, max_bits):
     run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low, bus=bus,
-                               counter_width=counter_width),
+                               counter_width=counter_width, max_bits=max_bits),
               "mdfqm_top", "test_top",
               {"phases": phases, "width": width, "rule": rule, "dead_min": dead_min,
                "upper_active_low": upper_low, "lower_active_low": lower_low, "bus": bus,
-               "counter_width": counter_width},
+               "counter_width": counter_width, "max_bits": max_bits},
               testcase=SINGLE_TESTS)
 
 
@@ -653,6 +703,11 @@ def test_top_pair():
     ({"formal": None}, "formal must be a bool, not None"),
     ({"bus": "apb"}, "bus must be one of ('wishbone', 'axi4lite'), not 'apb'"),
     ({"counter_width": 7}, "counter_width must be an integer in [8, 32], not 7"),
+    ({"max_bits": 15}, "max_bits must be an integer in [1, 12] for a 16-bit reference "
+                       "(2**max_bits slots <= FULL, at most 12), not 15 (or 0: MDFQM only)"),
+    ({"width": 9, "max_bits": 8}, "max_bits must be an integer in [1, 7] for a 9-bit reference "
+                                  "(2**max_bits slots <= FULL, at most 12), not 8 "
+                                  "(or 0: MDFQM only)"),
 ])
 def test_top_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:

@@ -199,7 +199,7 @@ def stimulus(method: Method, beats: np.ndarray, contract: Contract):
     stim["rst"][0] = 1
     outputs = {port: np.zeros(cycles, dtype=np.int64) for port in
                ("ref__ready", "start", "h", "update", "sample", "saturated", "period_clamped",
-                "mode_clamped")}
+                "mode_clamped", "mode_in_force", "bits_in_force")}
     keys = {"ref__ready": "ref_ready"}
     q, first_start = 0, None
     for cycle in range(cycles):

@@ -126,9 +126,12 @@ CONFIGS = (
     Config("core5", "core", "mdfqm_core_n5_w16", lambda: MdfqmCore(5, 16)),
     Config("generator", "generator (b<=8)", "mdfqm_generator_n3_w16_b8",
            lambda: GatingSignalGenerator(3, 16, max_bits=8)),
-    Config("top_wb", "top, Wishbone", "mdfqm_top_n3_w16", lambda: MdfqmTop(3, 16), TOP_TARGETS),
+    Config("top_wb", "top, Wishbone", "mdfqm_top_n3_w16", lambda: MdfqmTop(3, 16, max_bits=8),
+           TOP_TARGETS),
     Config("top_axil", "top, AXI4-Lite", "mdfqm_top_axil_n3_w16",
-           lambda: MdfqmTop(3, 16, bus="axi4lite"), TOP_TARGETS),
+           lambda: MdfqmTop(3, 16, bus="axi4lite", max_bits=8), TOP_TARGETS),
+    Config("top_mdfqm", "top, MDFQM only", "mdfqm_top_mdfqm_only_n3_w16",
+           lambda: MdfqmTop(3, 16, max_bits=0), TOP_TARGETS),
 )
 
 #: ``--quick``: (design keys, device keys)

@@ -162,6 +162,7 @@ class FieldData:
     onwrite: str = ""       # e.g. "woclr"
     singlepulse: bool = False
     intr: bool = False
+    in_force: bool = False  # sw = rw, hw = w: a read returns the hardware's value, not the write
 
     @property
     def mask(self) -> int:
@@ -309,7 +310,9 @@ def _field(node: FieldNode, params: dict, depends: dict) -> FieldData:
         name=node.inst_name, lsb=node.lsb, width=node.width, access=node.get_property("sw").name,
         reset=on[0] if on else int(node.get_property("reset", default=0) or 0), clamp=clamp,
         doc=doc, onwrite=onwrite.name if onwrite else "",
-        singlepulse=bool(node.get_property("singlepulse")), intr=bool(node.get_property("intr")))
+        singlepulse=bool(node.get_property("singlepulse")), intr=bool(node.get_property("intr")),
+        in_force=(node.get_property("sw").name == "rw" and node.get_property("hw").name == "w"
+                  and not node.get_property("intr")))
 
 
 # ---------------------------------------------------------------------------- the Python file
@@ -374,7 +377,8 @@ def _record(record: dict, indent: int) -> list[str]:
 
 
 #: the keys of a field record written only when they differ from these defaults
-FIELD_DEFAULTS = {"clamp": "", "doc": "", "onwrite": "", "singlepulse": False, "intr": False}
+FIELD_DEFAULTS = {"clamp": "", "doc": "", "onwrite": "", "singlepulse": False, "intr": False,
+                  "in_force": False}
 
 
 def render_python(data: MapData) -> str:

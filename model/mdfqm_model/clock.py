@@ -72,8 +72,8 @@ __all__ = ["GENERATOR_OUTPUTS", "OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel",
 
 #: names of the per-cycle outputs, in the order of :meth:`CoreModel.step`'s dict
 OUTPUTS = ("ref_ready", "start", "sample", "h", "update", "saturated", "period_clamped")
-#: the generator's outputs: the core's and ``mode_clamped``
-GENERATOR_OUTPUTS = (*OUTPUTS, "mode_clamped")
+#: the generator's outputs: the core's, ``mode_clamped`` and the mode and b in force
+GENERATOR_OUTPUTS = (*OUTPUTS, "mode_clamped", "mode_in_force", "bits_in_force")
 #: the runtime inputs every model takes (the generator adds ``mode`` and ``bits``)
 INPUTS = ("rst", "ref_valid", "ref", "period", "osr", "zero_policy", "sync_in")
 #: largest value of the unsigned 16-bit ``period`` input
@@ -315,8 +315,9 @@ class GeneratorModel(CoreModel):
 
     ``max_bits`` B in ``[1, min(12, width - 2)]``; ``long_latency`` defaults to
     ``contract.resolution_latency(phases, max_bits)``. Extra inputs of :meth:`step`: ``mode``
-    (3-bit code, default 0 = mdfqm) and ``bits`` (4-bit, default 0); extra output
-    ``mode_clamped``.
+    (3-bit code, default 0 = mdfqm) and ``bits`` (4-bit, default 0); extra outputs
+    ``mode_clamped``, ``mode_in_force`` and ``bits_in_force`` (the mode and b latched at the last
+    update start, after the clamp; 0 and 0 after reset).
     """
 
     OUTPUTS = GENERATOR_OUTPUTS
@@ -350,6 +351,8 @@ class GeneratorModel(CoreModel):
     def outputs(self) -> dict:
         out = super().outputs()
         out["mode_clamped"] = self.mode_clamped
+        out["mode_in_force"] = self.mode_lat
+        out["bits_in_force"] = self.bits_lat
         return out
 
     def _check_extra(self, extra: dict) -> dict:

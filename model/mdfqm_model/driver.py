@@ -52,10 +52,19 @@ The N-leg driver (:class:`GateDriverModel`)
 - Fault latch ``fault`` (reset 0): ``<= 1`` if ``fault_input``, else ``<= 0`` if ``fault_clear``,
   else hold. A clear while the synchronised input is still active does nothing.
   ``fault_active = fault_input | fault``.
-- Command and enable, taken at update boundaries: ``cmd = h if update else cmd_lat``,
+- The command follows ``h`` in every cycle (``cmd = h``: the core's ``h`` changes only at
+  update boundaries, the generator's also at the slot boundaries of a slot mode, and the driver
+  applies its rules to every edge alike); the enable is taken at update boundaries only:
   ``en = enable if update else active``; ``cmd_lat <= cmd``; ``active <= en and not
   fault_active``. So a fault also clears ``active``: after a clear, outputs resume only at the
   next update boundary with ``enable`` high.
+- Short edges (``short_edge``, a registered strobe per leg, reset 0): high in the cycle after
+  one in which leg ``i``'s command changed (``cmd[i] != cmd_lat[i]``) while the leg was driven in
+  this cycle and the last (``drive and active``) and had not yet followed the last change: the
+  switch ``cmd_lat[i]`` names was not on, or it was on but still inside its minimum pulse
+  (``cnt + 1 < min_pulse_seen``). Such an edge ends a commanded pulse shorter than the dead time
+  plus the minimum pulse, which the rules above swallow (the dead time) or stretch (the minimum
+  pulse): safe, but not what was commanded, so it is reported, never silent.
 - Each leg: ``drive = en and not fault_active``. A synchronised fault visible in cycle ``t``
   turns every output off in cycle ``t + 1``.
 - Pins: ``upper = up ^ upper_active_low``, ``lower = lo ^ lower_active_low`` (the inversion is
@@ -85,7 +94,7 @@ __all__ = [
 ]
 
 #: per-cycle outputs of :meth:`GateDriverModel.step`
-DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active")
+DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active", "short_edge")
 
 
 class LegModel:
@@ -178,6 +187,7 @@ class GateDriverModel:
         self.fault = 0
         self.active = 0
         self.cmd_lat = 0
+        self.short_edge = 0
         for leg in self.legs:
             leg.reset()
 
@@ -206,7 +216,21 @@ class GateDriverModel:
             "fault": self.fault,
             "fault_input": self.fault_input,
             "active": self.active,
+            "short_edge": self.short_edge,
         }
+
+    def short_edges(self, cmd: int, drive: int) -> int:
+        """The legs whose command ``cmd`` of this cycle is a short edge (module docstring)."""
+        if not (drive and self.active):
+            return 0
+        short = 0
+        for i, leg in enumerate(self.legs):
+            last = (self.cmd_lat >> i) & 1
+            if (cmd >> i) & 1 == last:
+                continue
+            followed = (leg.up if last else leg.lo) and leg.cnt + 1 >= self.min_pulse_seen
+            short |= int(not followed) << i
+        return short
 
     # ------------------------------------------------------------------ one clock
     def step(
@@ -223,9 +247,10 @@ class GateDriverModel:
         out = self.outputs()
 
         fault_active = self.fault_input or self.fault
-        cmd = h if update else self.cmd_lat
+        cmd = h
         en = enable if update else self.active
         drive = int(en and not fault_active)
+        short = self.short_edges(cmd, drive)
         for i, leg in enumerate(self.legs):
             leg.step(rst, (cmd >> i) & 1, drive, self.dead_seen, self.min_pulse_seen)
         self.dead_seen, self.min_pulse_seen = dead, min_pulse
@@ -238,6 +263,7 @@ class GateDriverModel:
                 self.fault = 0
             self.cmd_lat = cmd
             self.active = drive
+            self.short_edge = short
         self.fault_input, self.sync1 = self.sync1, fault_in
         return out
 

@@ -1,10 +1,12 @@
-"""Clock-level model of the drop-in top: core + gate driver + register file behind a bus front
-(Wishbone classic or AXI4-Lite) + switching counters + ADC trigger. The register map is
+"""Clock-level model of the drop-in top: the gating-signal generator (or, with ``max_bits`` 0,
+the MDFQM core alone) + gate driver + register file behind a bus front (Wishbone classic or
+AXI4-Lite) + switching counters + ADC trigger. The register map is
 :mod:`mdfqm_spec.regmap` (the gateware builds its register file from it, ``docs/top.md``
 documents it, a test checks the table there).
 
-The core's algorithm is not repeated here: :class:`TopModel` composes
-:class:`mdfqm_model.clock.CoreModel` and :class:`mdfqm_model.driver.GateDriverModel`.
+The algorithm is not repeated here: :class:`TopModel` composes
+:class:`mdfqm_model.clock.GeneratorModel` (:class:`~mdfqm_model.clock.CoreModel` for the
+MDFQM-only top) and :class:`mdfqm_model.driver.GateDriverModel`.
 
 The register bus (:mod:`mdfqm_spec.bus`)
 ----------------------------------------
@@ -38,15 +40,21 @@ read 0.
 
 Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
 -------------------------------------------------------------------------------
-- Core inputs: ``period = PERIOD``, ``osr = OSR``, ``zero_policy = CTRL.ZERO_POLICY``,
-  ``sync_in`` (port). ``sync_out`` is the core's ``start`` (combinational from its registers).
+- Generator inputs: ``period = PERIOD``, ``osr = OSR``, ``zero_policy = CTRL.ZERO_POLICY``,
+  ``sync_in`` (port), ``mode`` / ``bits`` = the last ``MODULATION`` write's fields (the
+  request; the generator latches and clamps them at each update start). ``sync_out`` is the
+  generator's ``start`` (combinational from its registers). ``MODULATION`` reads the generator's
+  ``mode_in_force`` / ``bits_in_force``; ``STATUS.MODE_CLAMPED`` is its ``mode_clamped``. The
+  MDFQM-only top (the core, ``max_bits`` 0) reads mode 0 and b 0, and its ``MODE_CLAMPED`` is
+  set at each update start to ``mode request != 0`` (``latch_mode`` with ``max_bits`` 0).
 - Reference: ``CMD.REF_COMMIT`` copies ``REF[0..N-1]`` into a snapshot and sets ``ref_pending``.
   The core's stream sees ``valid = ref_pending | ref.valid`` and the snapshot while
   ``ref_pending``: **a committed register beat wins** over the direct stream port, whose
   ``ready`` is ``core_ready & ~ref_pending``. ``ref_pending`` clears when the core accepts it;
   a commit while one is pending replaces the snapshot (a commit wins over the clear).
-- Driver inputs: the core's ``h`` and ``update``, ``enable = CTRL.ENABLE``, ``dead = DEAD``,
-  ``min_pulse = MIN_PULSE``, ``fault_in`` (port), ``fault_clear = CMD.FAULT_CLEAR`` strobe.
+- Driver inputs: the generator's ``h`` (followed every clock) and ``update``,
+  ``enable = CTRL.ENABLE``, ``dead = DEAD``, ``min_pulse = MIN_PULSE``, ``fault_in`` (port),
+  ``fault_clear = CMD.FAULT_CLEAR`` strobe.
 - Switching counters: ``EVENTS[i] += event[i]``, ``EVENTS_TOTAL += popcount(event)`` each
   cycle, ``event`` being the driver's turn-on strobes (one per turn-on of either switch of a
   leg: in complementary switching, one per change of the leg's state). 32 bits, wrapping.
@@ -57,7 +65,9 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   passes ``2**counter_width - 1`` (every per-leg counter wraps no earlier, being at most the
   total since the last clear; not in a ``COUNT_CLEAR`` clock), ``SAMPLE`` in a sampling tick
   (the core's ``sample``: the update that takes the next reference starts, so firmware can
-  write the following one). ``irq <= |(IRQ_STATUS & IRQ_ENABLE)`` (registered from both
+  write the following one), ``SHORT_EDGE`` when the driver's ``short_edge`` is not zero (a
+  leg's command changed before the leg had followed the last change).
+  ``irq <= |(IRQ_STATUS & IRQ_ENABLE)`` (registered from both
   registers: it follows them one clock later; reset 0).
 - ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= min(elapsed + 1, 2**17 - 1)``;
   ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
@@ -75,7 +85,14 @@ from mdfqm_spec.bus import (
     mapped_words,
     validate_bus,
 )
-from mdfqm_spec.contract import TIME_WIDTH, validate_dead_min
+from mdfqm_spec.contract import (
+    BITS_WIDTH,
+    MODE_WIDTH,
+    TIME_WIDTH,
+    latch_mode,
+    validate_dead_min,
+    validate_top_max_bits,
+)
 from mdfqm_spec.regmap import (
     ADC_COUNTER_WIDTH,
     ADC_OFFSET,
@@ -103,15 +120,21 @@ from mdfqm_spec.regmap import (
     IRQ_FAULT,
     IRQ_MASK,
     IRQ_SAMPLE,
+    IRQ_SHORT_EDGE,
     IRQ_STATUS,
     MIN_PULSE,
+    MODULATION,
+    MODULATION_BITS_SHIFT,
+    MODULATION_MODE_SHIFT,
     OSR,
+    PARAMETERS,
     PERIOD,
     REF_BASE,
     STATUS,
     STATUS_ACTIVE,
     STATUS_FAULT,
     STATUS_FAULT_INPUT,
+    STATUS_MODE_CLAMPED,
     STATUS_PERIOD_CLAMPED,
     STATUS_REF_PENDING,
     STATUS_SATURATED,
@@ -120,7 +143,7 @@ from mdfqm_spec.regmap import (
 )
 from mdfqm_spec.validate import validate_int
 
-from .clock import CoreModel
+from .clock import CoreModel, GeneratorModel
 from .driver import GateDriverModel
 from .inputs import check_bit, check_uint
 
@@ -228,20 +251,25 @@ class TopModel:
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, bus: str = "wishbone",
-                 counter_width: int = COUNTER_WIDTH):
+                 counter_width: int = COUNTER_WIDTH, max_bits: int | None = None):
         validate_top_phases(phases)
         self.counter_width = validate_int(counter_width, "counter_width", 8, COUNTER_WIDTH)
         self.front = FRONTS[validate_bus(bus)](phases)
         validate_dead_min(dead_min, TIME_WIDTH)
-        self.core = CoreModel(phases, width, rule)
+        if max_bits is None:            # MdfqmTop's default
+            max_bits = min(PARAMETERS["max_bits"], width - 2)
+        self.max_bits = validate_top_max_bits(max_bits, width)
+        self.core = (GeneratorModel(phases, width, rule, max_bits) if max_bits else
+                     CoreModel(phases, width, rule))
         self.driver = GateDriverModel(phases, dead_min, TIME_WIDTH, upper_active_low,
                                       lower_active_low)
         self.phases, self.width, self.rule = phases, width, rule
         self.dead_min = dead_min
         self.latency = self.core.latency
         self.contract = self.core.contract
+        self.long_latency = self.core.long_latency if max_bits else self.latency
         self.info = info_word(phases, width, rule, upper_active_low, lower_active_low,
-                              self.latency)
+                              self.latency, max_bits)
         self.reset()
 
     def reset(self) -> None:
@@ -264,6 +292,9 @@ class TopModel:
         self.irq_enable = 0
         self.irq_status = 0
         self.irq = 0
+        self.mode_request = 0
+        self.bits_request = 0
+        self.core_mode_clamped = 0      # the MDFQM-only top's flag (the generator has its own)
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -283,7 +314,8 @@ class TopModel:
             return (drv_out["fault"] * STATUS_FAULT | drv_out["fault_input"] * STATUS_FAULT_INPUT
                     | drv_out["active"] * STATUS_ACTIVE | self.ref_pending * STATUS_REF_PENDING
                     | core_out["saturated"] * STATUS_SATURATED
-                    | core_out["period_clamped"] * STATUS_PERIOD_CLAMPED)
+                    | core_out["period_clamped"] * STATUS_PERIOD_CLAMPED
+                    | self._mode_clamped(core_out) * STATUS_MODE_CLAMPED)
         if address == PERIOD:
             return self.period
         if address == OSR:
@@ -302,6 +334,10 @@ class TopModel:
             return self.irq_enable
         if address == IRQ_STATUS:
             return self.irq_status
+        if address == MODULATION:
+            mode, bits = ((core_out["mode_in_force"], core_out["bits_in_force"])
+                          if self.max_bits else (0, 0))
+            return mode << MODULATION_MODE_SHIFT | bits << MODULATION_BITS_SHIFT
         if REF_BASE <= address < REF_BASE + n:
             return self.ref[address - REF_BASE] & 0xFFFFFFFF
         if EVENTS_BASE <= address < EVENTS_BASE + n:
@@ -327,9 +363,15 @@ class TopModel:
             self.irq_enable = value & IRQ_MASK
         elif address == IRQ_STATUS:
             self.irq_status &= ~value
+        elif address == MODULATION:
+            self.mode_request = (value >> MODULATION_MODE_SHIFT) & ((1 << MODE_WIDTH) - 1)
+            self.bits_request = (value >> MODULATION_BITS_SHIFT) & ((1 << BITS_WIDTH) - 1)
         elif REF_BASE <= address < REF_BASE + self.phases:
             signed = value - (1 << 32) if value >> 31 else value
             self.ref[address - REF_BASE] = min(max(signed, c.code_min), c.code_max)
+
+    def _mode_clamped(self, core_out: dict) -> int:
+        return core_out["mode_clamped"] if self.max_bits else self.core_mode_clamped
 
     # ------------------------------------------------------------------ one clock
     @property
@@ -353,10 +395,12 @@ class TopModel:
         port_ready = self.ref_ready
         core_ready = self.core.ref_ready
 
+        modulation = ({"mode": self.mode_request, "bits": self.bits_request}
+                      if self.max_bits else {})
         core_out = self.core.step(
             rst=rst, ref_valid=int(self.ref_pending or ref_valid),
             ref=self.snapshot if self.ref_pending else ref, period=self.period, osr=self.osr,
-            zero_policy=int(bool(self.ctrl & CTRL_ZERO_POLICY)), sync_in=sync_in)
+            zero_policy=int(bool(self.ctrl & CTRL_ZERO_POLICY)), sync_in=sync_in, **modulation)
         assert core_out["ref_ready"] == core_ready
         up, lo = self.driver.up, self.driver.lo
         drv_out = self.driver.step(
@@ -395,7 +439,10 @@ class TopModel:
             self.total = (self.total + bin(event).count("1")) & mask
         irq_events = ((IRQ_FAULT if drv_out["fault_input"] and not drv_out["fault"] else 0)
                       | (IRQ_COUNTER_WRAP if wrapped else 0)
-                      | (IRQ_SAMPLE if core_out["sample"] else 0))
+                      | (IRQ_SAMPLE if core_out["sample"] else 0)
+                      | (IRQ_SHORT_EDGE if drv_out["short_edge"] else 0))
+        if core_out["start"]:
+            self.core_mode_clamped = int(latch_mode(self.mode_request, self.bits_request, 0)[2])
         # ADC trigger
         elapsed = 0 if core_out["start"] else self.adc_cnt
         self.adc_cnt = min(elapsed + 1, (1 << ADC_COUNTER_WIDTH) - 1)

@@ -40,7 +40,7 @@ def test_mode_mdfqm_is_the_core(phases, rule, rng):
     for k in OUTPUTS:
         assert (a[k] == b[k]).all(), k
     assert not b["mode_clamped"].any()
-    assert set(GENERATOR_OUTPUTS) == {*OUTPUTS, "mode_clamped"}
+    assert set(GENERATOR_OUTPUTS) == {*OUTPUTS, "mode_clamped", "mode_in_force", "bits_in_force"}
 
 
 @pytest.mark.parametrize("mode", list(GAMMA))

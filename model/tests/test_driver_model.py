@@ -36,12 +36,13 @@ def pulses(stream, value=1):
 
 
 def updates_at(cycles, times, h_values, enable=1):
-    """Stimulus arrays: ``update`` high at ``times`` with ``h`` from ``h_values``."""
+    """Stimulus arrays: ``update`` high at ``times`` with ``h`` from ``h_values``, held
+    between updates (as the core presents it)."""
     update = np.zeros(cycles, dtype=np.int64)
     h = np.zeros(cycles, dtype=np.int64)
     for t, v in zip(times, h_values, strict=True):
         update[t] = 1
-        h[t] = v
+        h[t:] = v
     en = np.full(cycles, enable, dtype=np.int64) if np.isscalar(enable) else enable
     return {"update": update, "h": h, "enable": en}
 
@@ -49,7 +50,8 @@ def updates_at(cycles, times, h_values, enable=1):
 def test_reset_state_all_off_with_polarity():
     m = GateDriverModel(3, 4, upper_active_low=True)
     o = m.step()
-    assert o == {"upper": 0b111, "lower": 0, "event": 0, "fault": 0, "fault_input": 0, "active": 0}
+    assert o == {"upper": 0b111, "lower": 0, "event": 0, "fault": 0, "fault_input": 0, "active": 0,
+                 "short_edge": 0}
 
 
 def test_first_turn_on_waits_the_dead_time_after_reset():
@@ -77,13 +79,40 @@ def test_complementary_switching_with_dead_time():
     assert check_gate_safety(up, lo, 3, dead=np.full(cycles, 5)) == 5
 
 
-def test_command_is_taken_only_at_update():
+def test_command_follows_an_edge_inside_an_update():
+    """A slot mode's edge (h moves without an update strobe) is followed like an update's,
+    under the same dead time."""
     m = GateDriverModel(3, 1)
     cycles = 30
     stim = updates_at(cycles, [0], [0b111])
-    stim["h"][5:] = 0b000  # h moves without an update strobe: ignored
-    out = run(m, cycles, dead=1, **stim)
-    assert (out["up"][1:] == 0b111).all()
+    stim["h"][10:] = 0b000
+    out = run(m, cycles, dead=3, **stim)
+    # on at 3 (dead 3 from reset); edge at 10: uppers off at 11, lowers on at 11 + 3
+    assert (out["up"][3:11] == 0b111).all() and not out["up"][11:].any()
+    assert not out["lo"][:14].any() and (out["lo"][14:] == 0b111).all()
+    assert not out["short_edge"].any()
+
+
+def test_short_edges_are_reported():
+    """Leg 0: a pulse shorter than the dead time is swallowed; leg 1: one shorter than the
+    minimum pulse is stretched; leg 2 follows at leisure: only the first two are reported, in
+    the cycle after the edge that ends the short pulse."""
+    m = GateDriverModel(3, 1)
+    cycles = 60
+    h = np.zeros(cycles, dtype=np.int64)
+    h[20:22] = 0b001          # leg 0: upper for 2 clocks (< dead 4): swallowed
+    h[30:] |= 0b010           # leg 1: upper from 30 (lower off at 31, upper on at 35) ...
+    h[36:] &= ~0b010          # ... commanded away after 1 on-clock (< min pulse 5)
+    h[45:] |= 0b100           # leg 2: a long pulse, followed
+    update = np.zeros(cycles, dtype=np.int64)
+    update[0] = 1
+    out = run(m, cycles, dead=4, min_pulse=5, h=h, update=update, enable=1)
+    assert not (out["up"] & 1).any()                       # swallowed: never on
+    assert pulses((out["up"] >> 1) & 1) == [(35, 5)]       # stretched to 5 clocks
+    assert [(int(t), int(v)) for t, v in enumerate(out["short_edge"]) if v] == \
+        [(23, 0b001), (37, 0b010)]
+    in_force = np.r_[1, np.full(cycles - 1, 4)]             # dead acts a clock late
+    assert check_gate_safety(out["up"], out["lo"], 3, dead=in_force) > 0
 
 
 def test_enable_and_disable_take_effect_at_update_boundaries():

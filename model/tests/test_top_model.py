@@ -62,7 +62,8 @@ def test_reset_values_and_read_only_registers():
     assert bus.read(regs.OSR) == 1
     assert bus.read(regs.DEAD) == 7
     for address in (regs.MIN_PULSE, regs.ADC_OFFSET, regs.EVENTS_TOTAL, regs.GATES, regs.CMD,
-                    regs.REF_BASE, regs.EVENTS_BASE + 2, regs.REF_BASE + 3, 0x3F, 0x0F):
+                    regs.REF_BASE, regs.EVENTS_BASE + 2, regs.REF_BASE + 3, 0x3F,
+                    regs.MODULATION):
         assert bus.read(address) == 0
     for address in (regs.ID, regs.INFO, regs.DEAD_MIN, regs.STATUS, regs.GATES,
                     regs.EVENTS_TOTAL, regs.EVENTS_BASE):
@@ -73,7 +74,16 @@ def test_reset_values_and_read_only_registers():
 
 def test_info_word_flags():
     m = TopModel(5, 18, "exact_nearest", 3, upper_active_low=True, lower_active_low=False)
-    assert m.info == 5 | 18 << 5 | 1 << 11 | 1 << 12 | m.latency << 16
+    assert m.info == 5 | 18 << 5 | 1 << 11 | 1 << 12 | m.latency << 16 | 8 << 24 | 5 << 28
+    m = TopModel(3, 16, max_bits=0)
+    assert m.info == 3 | 16 << 5 | m.latency << 16 | 1 << 28
+    assert TopModel(3, 16, max_bits=3).info >> 24 == 3 | 5 << 4
+
+
+@pytest.mark.parametrize("max_bits", [-1, 15, True, 1.0])
+def test_max_bits_is_refused_by_name(max_bits):
+    with pytest.raises(ValueError, match="max_bits"):
+        TopModel(3, 16, max_bits=max_bits)
 
 
 @pytest.mark.parametrize(("address", "value", "stored"), [
@@ -337,7 +347,7 @@ def test_axil_aw_and_w_apart_and_b_backpressure():
 
 def test_axil_unmapped_words_answer_slverr_and_read_zero():
     m = TopModel(3, 16, bus="axi4lite")
-    for word, resp in ((0x0F, 2), (regs.REF_BASE + 3, 2), (regs.EVENTS_BASE + 2, 0), (0x3F, 2),
+    for word, resp in ((regs.REF_BASE + 3, 2), (regs.EVENTS_BASE + 2, 0), (0x3F, 2),
                        (regs.ID, 0)):
         m.step(**axi(araddr=word * 4, arvalid=1, awaddr=word * 4, awvalid=1, wvalid=1,
                      wdata=0xFFFFFFFF))
@@ -398,3 +408,60 @@ def test_irq_event_in_the_clock_of_its_clear_wins():
     out = bus.tick(wb_cyc=1, wb_stb=1, wb_we=1, wb_adr=regs.IRQ_STATUS, wb_dat_w=regs.IRQ_SAMPLE)
     assert out["wb_ack"] == 0
     assert m.irq_status & regs.IRQ_SAMPLE and [bus.tick()["irq"] for _ in range(2)][1] == 1
+
+
+# ------------------------------------------------------------------ modulation mode and b
+def modulation(mode, bits):
+    return mode << regs.MODULATION_MODE_SHIFT | bits << regs.MODULATION_BITS_SHIFT
+
+
+@pytest.mark.parametrize(("max_bits", "written", "in_force", "clamped"), [
+    (8, (1, 3), (1, 3), 0),        # svpwm at b = 3: taken as written
+    (8, (4, 9), (4, 8), 1),        # b above max_bits: max_bits, flagged
+    (8, (2, 0), (2, 1), 1),        # b = 0 in a slot mode: 1, flagged
+    (8, (0, 5), (0, 0), 0),        # mdfqm ignores b, no flag
+    (8, (6, 2), (0, 0), 1),        # no mode 6: mdfqm, flagged
+    (3, (3, 7), (3, 3), 1),        # a smaller max_bits
+    (0, (1, 3), (0, 0), 1),        # the MDFQM-only top: every other mode is mdfqm, flagged
+    (0, (0, 9), (0, 0), 0),
+])
+def test_modulation_reads_the_mode_in_force_from_the_next_update_start(max_bits, written,
+                                                                       in_force, clamped):
+    """A MODULATION write is a request: reads keep the mode and b in force until an update
+    start takes it (clamped, STATUS.MODE_CLAMPED for that update); mdfqm before."""
+    m = TopModel(3, 16, max_bits=max_bits)
+    bus = Master(m)
+    bus.write(regs.PERIOD, 40)
+    bus.run(2 * m.long_latency)
+    while not bus.tick()["sync_out"]:                                # just after a start
+        pass
+    bus.write(regs.MODULATION, modulation(*written) | 0xFFFF_F0F8)   # other bits dropped
+    assert bus.read(regs.MODULATION) == 0                            # not started yet
+    assert not bus.read(regs.STATUS) & regs.STATUS_MODE_CLAMPED
+    bus.run(40)                                                      # an update start
+    assert bus.read(regs.MODULATION) == modulation(*in_force)
+    assert bool(bus.read(regs.STATUS) & regs.STATUS_MODE_CLAMPED) == bool(clamped)
+    bus.write(regs.MODULATION, 0)                                    # back to mdfqm
+    bus.run(2 * max(40, m.long_latency, 1 << in_force[1]))      # b = 8: 256-clock updates
+    assert bus.read(regs.MODULATION) == 0
+    assert not bus.read(regs.STATUS) & regs.STATUS_MODE_CLAMPED
+
+
+def test_slot_mode_switches_inside_an_update_and_the_driver_follows():
+    """SVPWM at b = 2: the gates change inside an update (between update strobes), with the
+    dead time at every edge."""
+    m = TopModel(3, 16, dead_min=2)
+    bus = Master(m, ref_valid=1, ref=[6000, -2000, -4000])
+    bus.write(regs.PERIOD, 64)
+    bus.write(regs.MODULATION, modulation(1, 2))
+    bus.write(regs.CTRL, regs.CTRL_ENABLE)
+    ups = []
+    for _ in range(6 * 64):
+        ups.append(m.core.update)
+        bus.tick()
+    up, lo = np.array(bus.up[-len(ups):]), np.array(bus.lo[-len(ups):])
+    update = np.array(ups)
+    changes = np.flatnonzero(np.diff(up | lo << 3) != 0) + 1
+    inside = [t for t in changes if not update[max(0, t - 4):t + 1].any()]
+    assert len(inside) >= 4, "no gate edge inside an update"
+    check_gate_safety(up, lo, 3, dead=np.full(len(up), 2))

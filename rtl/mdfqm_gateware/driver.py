@@ -55,6 +55,9 @@ class LegDriver(wiring.Component):
         Gates, active-high, registered (reset 0).
     event : Out(1)
         Registered strobe, high in the cycle a turn-on of either switch becomes visible.
+    in_min_pulse : Out(1)
+        Registered: the present state has lasted fewer than ``min_pulse`` clocks (an on switch
+        no longer commanded would be held on; the model's ``cnt + 1 < min_pulse_seen``).
 
     Parameters
     ----------
@@ -78,6 +81,7 @@ class LegDriver(wiring.Component):
             "upper": Out(1),
             "lower": Out(1),
             "event": Out(1),
+            "in_min_pulse": Out(1),
         })
 
     def elaborate(self, platform):
@@ -99,6 +103,7 @@ class LegDriver(wiring.Component):
         dt = Signal(tw)
         dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
         nxt_up, nxt_lo = Signal(), Signal()
+        m.d.comb += self.in_min_pulse.eq(pulse_short)
 
         on = self.upper | self.lower
         want_up = self.drive & self.cmd
@@ -208,10 +213,12 @@ class LegDriver(wiring.Component):
 
 
 class GateDriver(wiring.Component):
-    """N legs, the fault synchroniser and latch, enable and command taken at update boundaries.
+    """N legs, the fault synchroniser and latch, the command followed in every cycle and the
+    enable taken at update boundaries.
 
-    Specification: :class:`mdfqm_model.driver.GateDriverModel`. The command ``h`` and
-    ``enable`` are taken in cycles with ``update`` high (between updates they hold); a
+    Specification: :class:`mdfqm_model.driver.GateDriverModel`. The command ``h`` is followed
+    in every cycle (every edge of it, at an update boundary or at a slot boundary inside an
+    update, under the same rules); ``enable`` is taken in cycles with ``update`` high; a
     synchronised fault turns every output off on the next clock, latches, clears the taken
     enable, and is cleared by ``fault_clear`` only while the synchronised input is inactive;
     outputs then resume at the next update boundary with ``enable`` high.
@@ -219,9 +226,10 @@ class GateDriver(wiring.Component):
     Ports
     -----
     h : In(phases)
-        Gate state from the core, bit i = upper switch of leg i on. Read when ``update``.
+        Gate state from the core or the generator, bit i = upper switch of leg i on. Read in
+        every cycle.
     update : In(1)
-        Update boundary strobe (the core's ``update``).
+        Update boundary strobe (the core's ``update``): when ``enable`` is taken.
     enable : In(1)
         Requested enable; taken at update boundaries.
     dead, min_pulse : In(time_width)
@@ -237,6 +245,11 @@ class GateDriver(wiring.Component):
         switch off (pin level 1 for an active-low side).
     event : Out(phases)
         Registered strobe per leg: a turn-on (either switch) becomes visible this cycle.
+    short_edge : Out(phases)
+        Registered strobe per leg: in the cycle before, the leg's command changed while the leg
+        was driven (that cycle and the one before) but had not followed the last change (the
+        switch then commanded was off, or on inside its minimum pulse): a commanded pulse
+        shorter than the dead time plus the minimum pulse, swallowed or stretched.
     fault : Out(1)
         The fault latch (registered).
     fault_input : Out(1)
@@ -277,6 +290,7 @@ class GateDriver(wiring.Component):
             "upper": Out(phases),
             "lower": Out(phases),
             "event": Out(phases),
+            "short_edge": Out(phases),
             "fault": Out(1),
             "fault_input": Out(1),
             "active": Out(1),
@@ -297,12 +311,13 @@ class GateDriver(wiring.Component):
         fault_active = Signal()      # named: the formal tests' "ungated fault" mutant cuts it
         m.d.comb += fault_active.eq(self.fault_input | self.fault)
 
-        # Command and enable, taken at update boundaries; a fault clears the taken enable.
+        # The command followed in every cycle, the enable taken at update boundaries; a fault
+        # clears the taken enable.
         cmd_lat = Signal(n)
         cmd = Signal(n)
         drive = Signal()
         m.d.comb += [
-            cmd.eq(Mux(self.update, self.h, cmd_lat)),
+            cmd.eq(self.h),
             drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active),
         ]
         m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
@@ -320,6 +335,10 @@ class GateDriver(wiring.Component):
             ]
         up = Cat(leg.upper for leg in legs)
         lo = Cat(leg.lower for leg in legs)
+        followed = Cat(Mux(cmd_lat[i], leg.upper, leg.lower) & ~leg.in_min_pulse
+                       for i, leg in enumerate(legs))
+        m.d.sync += self.short_edge.eq(
+            Mux(drive & self.active, (cmd ^ cmd_lat) & ~followed, 0))
         ones = (1 << n) - 1
         m.d.comb += [
             self.up.eq(up),

@@ -48,9 +48,10 @@ def default_configs(phases: int, width: int):
         (f"mdfqm_core_n{phases}_w{width}", lambda: MdfqmCore(phases, width)),
         (f"mdfqm_generator_n{phases}_w{width}_b{bits}",
          lambda: GatingSignalGenerator(phases, width, max_bits=bits)),
-        (f"mdfqm_top_n{phases}_w{width}", lambda: MdfqmTop(phases, width)),
+        (f"mdfqm_top_n{phases}_w{width}", lambda: MdfqmTop(phases, width, max_bits=bits)),
         (f"mdfqm_top_axil_n{phases}_w{width}",
-         lambda: MdfqmTop(phases, width, bus="axi4lite")),
+         lambda: MdfqmTop(phases, width, bus="axi4lite", max_bits=bits)),
+        (f"mdfqm_top_mdfqm_only_n{phases}_w{width}", lambda: MdfqmTop(phases, width, max_bits=0)),
     ]
 
 

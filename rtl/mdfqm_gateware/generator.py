@@ -81,6 +81,10 @@ class GatingSignalGenerator(wiring.Component):
         The period requested at the last start was below that update's minimum.
     mode_clamped : Out(1)
         The last start's ``mode`` was illegal or its ``bits`` was clamped.
+    mode_in_force : Out(MODE_WIDTH)
+        The mode of the last update start, after the clamp (0 after reset).
+    bits_in_force : Out(BITS_WIDTH)
+        b of the last update start, after the clamp (0 for mdfqm and after reset).
 
     Parameters
     ----------
@@ -114,7 +118,8 @@ class GatingSignalGenerator(wiring.Component):
         super().__init__(loop_ports(
             phases, width,
             extra_inputs={"mode": In(MODE_WIDTH), "bits": In(BITS_WIDTH)},
-            extra_outputs={"mode_clamped": Out(1)}))
+            extra_outputs={"mode_clamped": Out(1), "mode_in_force": Out(MODE_WIDTH),
+                           "bits_in_force": Out(BITS_WIDTH)}))
 
     def elaborate(self, platform):
         m = Module()
@@ -161,6 +166,8 @@ class GatingSignalGenerator(wiring.Component):
             layout.i_slot_m2.eq(slot_m2),
             self.h.eq(layout.o_h),
             self.mode_clamped.eq(sequencer.mode_clamped),
+            self.mode_in_force.eq(sequencer.mode_lat),
+            self.bits_in_force.eq(sequencer.bits_lat),
         ]
         m.d.sync += [
             self.update.eq(commit),

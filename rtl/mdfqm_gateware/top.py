@@ -1,5 +1,6 @@
-"""The drop-in top: MDFQM core + gate driver + register file behind a Wishbone-classic or an
-AXI4-Lite front + switching counters + ADC trigger. Every bit on every clock follows
+"""The drop-in top: the gating-signal generator (MDFQM, SVPWM, DPWM, b-bit; or the MDFQM core
+alone, ``max_bits=0``) + gate driver + register file behind a Wishbone-classic or an AXI4-Lite
+front + switching counters + ADC trigger. Every bit on every clock follows
 :class:`mdfqm_model.top.TopModel`; the register map (addresses, bits, reset values, clamps) is
 imported from :mod:`mdfqm_spec.regmap` and documented in ``docs/top.md``.
 """
@@ -11,7 +12,18 @@ from amaranth.lib.wiring import In, Out
 
 from mdfqm_spec import regmap
 from mdfqm_spec.bus import AXI_ADDR_WIDTH, mapped_words, validate_bus
-from mdfqm_spec.contract import TIME_WIDTH, Contract, loop_latency, validate_dead_min, validate_rule
+from mdfqm_spec.contract import (
+    BITS_WIDTH,
+    MODE_WIDTH,
+    MODES,
+    TIME_WIDTH,
+    Contract,
+    loop_latency,
+    resolution_latency,
+    validate_dead_min,
+    validate_rule,
+    validate_top_max_bits,
+)
 from mdfqm_spec.regmap import info_word, validate_top_phases
 from mdfqm_spec.validate import validate_bool, validate_int
 
@@ -19,6 +31,7 @@ from .bus import AxiLiteSignature, WishboneSignature
 from .core import MdfqmCore
 from .driver import GateDriver
 from .fronts import AxiLiteFront, WishboneFront
+from .generator import GatingSignalGenerator
 
 __all__ = ["MdfqmTop"]
 
@@ -28,7 +41,10 @@ def _saturate(value, top: int):
 
 
 class MdfqmTop(wiring.Component):
-    """An N-phase MDFQM modulator with a safe gate driver, for a soft CPU or an FOC block.
+    """An N-phase MDFQM / SVPWM / DPWM modulator with a safe gate driver, for a soft CPU or an
+    FOC block. The modulation mode and the resolution b are runtime registers (``MODULATION``,
+    taken at update starts); the gate driver applies dead time, minimum pulse, fault and the
+    counters to every edge, at update and at slot boundaries alike.
 
     Between the FOC loop (a reference per phase) and the gate-driver chip (an upper and a lower
     gate per leg). Runtime settings live in a register file behind a Wishbone-classic or an
@@ -57,6 +73,8 @@ class MdfqmTop(wiring.Component):
         Synchronous to ``clk``: another instance's ``sync_out`` (the core's ``sync_in``).
     upper, lower : Out(phases)
         Gate pins of each leg, registered, in the polarity of the parameters; reset: all off.
+        They follow every edge of the generator's gate state: at update boundaries and, in a
+        slot mode, at the slot boundaries inside an update.
     adc_trigger : Out(1)
         Registered one-clock pulse in cycle ``s + 1 + ADC_OFFSET`` of each update (``s`` the
         update start); none when ``ADC_OFFSET`` is not below the update period.
@@ -85,6 +103,10 @@ class MdfqmTop(wiring.Component):
         The register bus's front.
     counter_width : int in [8, 32]
         Bits of the switching counters (they wrap at ``2**counter_width``).
+    max_bits : int, 0 or in [1, min(12, width - 2)]; default min(8, width - 2)
+        Largest resolution b of the slot modes (SVPWM, DPWM0, DPWM1, DPWM: ``2**b`` slots per
+        update). 0 builds the MDFQM-only top (the core alone, the smallest): ``MODULATION``
+        then holds mode 0, and any other mode written is clamped to it (flagged).
     formal : bool
         Emit the safety ``Assert`` statements and the bus front's handshake rules (not in the
         drop-in Verilog).
@@ -92,13 +114,16 @@ class MdfqmTop(wiring.Component):
     Attributes
     ----------
     latency : int
-        The core's loop latency (smallest update period) in clocks.
+        The loop latency (smallest update period) of an MDFQM update in clocks.
+    long_latency : int
+        The latency of a slot-mode update (``latency`` when ``max_bits`` is 0).
     """
 
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, bus: str = "wishbone",
-                 counter_width: int = regmap.COUNTER_WIDTH, formal: bool = False):
+                 counter_width: int = regmap.COUNTER_WIDTH,
+                 max_bits: int | None = None, formal: bool = False):
         validate_top_phases(phases)
         self.bus = validate_bus(bus)
         self.counter_width = validate_int(counter_width, "counter_width", 8,
@@ -110,7 +135,11 @@ class MdfqmTop(wiring.Component):
         self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")
         self.formal = validate_bool(formal, "formal")
         self.phases, self.width = phases, width
+        if max_bits is None:
+            max_bits = min(regmap.PARAMETERS["max_bits"], width - 2)
+        self.max_bits = validate_top_max_bits(max_bits, width)
         self.latency = loop_latency(phases, rule)
+        self.long_latency = resolution_latency(phases, max_bits) if max_bits else self.latency
         super().__init__({
             **({"wb": In(WishboneSignature(regmap.ADDR_WIDTH))} if bus == "wishbone" else
                {"s_axi": In(AxiLiteSignature(AXI_ADDR_WIDTH))}),
@@ -128,7 +157,13 @@ class MdfqmTop(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         n, c = self.phases, self.contract
-        m.submodules.core = core = MdfqmCore(n, self.width, self.rule, formal=self.formal)
+        if self.max_bits:
+            core = GatingSignalGenerator(n, self.width, self.rule, self.max_bits,
+                                         formal=self.formal)
+            assert core.long_latency == self.long_latency
+        else:
+            core = MdfqmCore(n, self.width, self.rule, formal=self.formal)
+        m.submodules.core = core
         assert core.latency == self.latency
         m.submodules.driver = driver = GateDriver(
             n, self.dead_min, TIME_WIDTH, self.upper_active_low, self.lower_active_low,
@@ -158,6 +193,8 @@ class MdfqmTop(wiring.Component):
         irq_bits = regmap.IRQ_MASK.bit_length()
         irq_enable = Signal(irq_bits)
         irq_status = Signal(irq_bits)
+        mode_request = Signal(MODE_WIDTH)
+        bits_request = Signal(BITS_WIDTH)
         adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
         adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
@@ -188,16 +225,21 @@ class MdfqmTop(wiring.Component):
             m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF))
         with m.If(written(regmap.IRQ_ENABLE)):
             m.d.sync += irq_enable.eq(word[:irq_bits])
+        with m.If(written(regmap.MODULATION)):
+            m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
+                         bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
                 m.d.sync += ref_regs[i].eq(
                     Mux(code < c.code_min, c.code_min, Mux(code > c.code_max, c.code_max, code)))
 
+        mode_clamped, mode_in_force, bits_in_force = self._modulation(
+            m, core, mode_request, bits_request)
         rd = Signal(32)
         status = Cat(driver.fault, driver.fault_input, driver.active, ref_pending,
-                     core.saturated, core.period_clamped)
+                     core.saturated, core.period_clamped, mode_clamped)
         info = info_word(n, self.width, self.rule, self.upper_active_low,
-                         self.lower_active_low, self.latency)
+                         self.lower_active_low, self.latency, self.max_bits)
         with m.Switch(port.r_adr):
             with m.Case(regmap.ID):
                 m.d.comb += rd.eq(regmap.ID_VALUE)
@@ -227,6 +269,9 @@ class MdfqmTop(wiring.Component):
                 m.d.comb += rd.eq(irq_enable)
             with m.Case(regmap.IRQ_STATUS):
                 m.d.comb += rd.eq(irq_status)
+            with m.Case(regmap.MODULATION):
+                m.d.comb += rd.eq((mode_in_force << regmap.MODULATION_MODE_SHIFT)
+                                  | (bits_in_force << regmap.MODULATION_BITS_SHIFT))
             for i in range(n):
                 with m.Case(regmap.REF_BASE + i):
                     m.d.comb += rd.eq(ref_regs[i])   # signed: sign-extended
@@ -279,7 +324,8 @@ class MdfqmTop(wiring.Component):
         # ---------------------------------------------------------------- interrupt
         sources = {regmap.IRQ_FAULT: driver.fault_input & ~driver.fault,
                    regmap.IRQ_COUNTER_WRAP: total_next[-1] & ~count_clear,
-                   regmap.IRQ_SAMPLE: core.sample}
+                   regmap.IRQ_SAMPLE: core.sample,
+                   regmap.IRQ_SHORT_EDGE: driver.short_edge.any()}
         irq_events = Cat(*(sources[1 << bit] for bit in range(irq_bits)))
         cleared = Mux(written(regmap.IRQ_STATUS), word[:irq_bits], 0)
         status_next = (irq_status & ~cleared) | irq_events
@@ -298,6 +344,8 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver)
+            if self.max_bits:
+                self._mode_covers(m, core, driver)
             irq_was = Signal(reset_less=True)       # IRQ_STATUS & IRQ_ENABLE, a clock ago
             rst_prev = Signal(reset_less=True)
             m.d.sync += [irq_was.eq((irq_status & irq_enable).any()), rst_prev.eq(ResetSignal())]
@@ -305,6 +353,33 @@ class MdfqmTop(wiring.Component):
                                 "irq is not IRQ_STATUS & IRQ_ENABLE of the clock before"),
                          Cover(self.irq & irq_status[0])]
         return m
+
+    def _modulation(self, m, core, mode_request, bits_request):
+        """The requested mode and b to the generator; ``(clamped flag, mode in force, b in
+        force)``. The MDFQM-only top keeps mode 0 and flags a start that was asked for another
+        (``mdfqm_spec.contract.latch_mode`` with ``max_bits`` 0)."""
+        if self.max_bits:
+            m.d.comb += [core.mode.eq(mode_request), core.bits.eq(bits_request)]
+            return core.mode_clamped, core.mode_in_force, core.bits_in_force
+        mode_clamped = Signal()
+        with m.If(core.start):
+            m.d.sync += mode_clamped.eq(mode_request != 0)
+        return mode_clamped, 0, 0
+
+    def _mode_covers(self, m, core, driver):
+        """Covers: a turn-on at the pins in every mode, and one that follows an edge inside a
+        slot-mode update (after the full dead time: the driver's proofs hold for every edge)."""
+        h_prev = Signal.like(core.h, name="formal_h_prev", reset_less=True)
+        slot_edge = Signal(name="formal_slot_edge")     # an edge since the last update strobe
+        m.d.sync += h_prev.eq(core.h)
+        with m.If(core.update):
+            m.d.sync += slot_edge.eq(0)
+        with m.Elif((core.h != h_prev) & (core.mode_in_force != 0)):
+            m.d.sync += slot_edge.eq(1)
+        turn_on = driver.event.any()
+        for code in range(len(MODES)):
+            m.d.comb += Cover(turn_on & (core.mode_in_force == code))
+        m.d.comb += Cover(turn_on & slot_edge)
 
     def _properties(self, m, ctrl, dead, driver):
         """Reset gives all off until enabled; the dead-time register never below the floor."""

@@ -20,8 +20,9 @@ __all__ = [
     "LARGEST_DUTY_MAX_PHASES", "MAX_BITS_LIMIT", "MAX_WIDTH", "MIN_PHASES", "MODES", "MODE_WIDTH",
     "OSR_WIDTH", "PERIOD_WIDTH", "RULES", "TIME_WIDTH", "ZERO_POLICIES", "Contract",
     "argmax_stages", "ceil_log2", "latch_mode", "loop_latency", "min_period", "min_width",
-    "resolution_latency", "signed_bits", "sorting_network", "validate_dead_min",
-    "validate_max_bits", "validate_rule", "validate_time_width", "validate_zero_policy",
+    "modes_built_in", "resolution_latency", "signed_bits", "sorting_network",
+    "validate_dead_min", "validate_max_bits", "validate_rule", "validate_time_width",
+    "validate_top_max_bits", "validate_zero_policy",
 ]
 
 RULES = ("largest_duty", "exact_nearest")
@@ -173,6 +174,23 @@ def validate_max_bits(max_bits, width: int) -> int:
     return max_bits
 
 
+def validate_top_max_bits(max_bits, width: int) -> int:
+    """The top's ``max_bits``: 0 (the MDFQM-only top, the core alone) or a generator's
+    (:func:`validate_max_bits`)."""
+    if isinstance(max_bits, int) and not isinstance(max_bits, bool) and max_bits == 0:
+        return 0
+    try:
+        return validate_max_bits(max_bits, width)
+    except ValueError as error:
+        raise ValueError(f"{error} (or 0: MDFQM only)") from None
+
+
+def modes_built_in(max_bits: int) -> int:
+    """Modes a generator with this ``max_bits`` offers (codes ``0 .. modes - 1``): all of
+    :data:`MODES`, or mdfqm alone for ``max_bits`` 0 (the MDFQM-only top)."""
+    return len(MODES) if max_bits else 1
+
+
 def resolution_latency(phases: int, max_bits: int) -> int:
     """``L_b``: clocks from the start of a long update to its presentation.
 
@@ -190,13 +208,15 @@ def resolution_latency(phases: int, max_bits: int) -> int:
 def latch_mode(mode: int, bits: int, max_bits: int) -> tuple[int, int, bool]:
     """The runtime clamp of the generator: ``(mode code, b, clamped)`` used for an update.
 
-    Codes ``>= len(MODES)`` act as mdfqm (flagged); mdfqm uses b = 0 (``bits`` ignored, not
-    flagged); a gamma mode uses ``min(max(bits, 1), max_bits)`` (flagged when that differs).
+    Codes of modes not built in (``>= modes_built_in(max_bits)``: 5..7, or 1..7 when
+    ``max_bits`` is 0, the MDFQM-only top) act as mdfqm (flagged); mdfqm uses b = 0 (``bits``
+    ignored, not flagged); a gamma mode uses ``min(max(bits, 1), max_bits)`` (flagged when that
+    differs).
     """
     if not 0 <= mode < (1 << MODE_WIDTH) or not 0 <= bits < (1 << BITS_WIDTH):
         raise ValueError(f"mode must be a {MODE_WIDTH}-bit and bits a {BITS_WIDTH}-bit code, "
                          f"not {mode!r}, {bits!r}")
-    if mode >= len(MODES):
+    if mode >= modes_built_in(max_bits):
         return 0, 0, True
     if mode == 0:
         return 0, 0, False

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mdfqm_spec.contract import RULES
+from mdfqm_spec.contract import RULES, modes_built_in
 
 from . import regmap_top as _top
 from .regmap_top import *  # noqa: F403 -- the top's word addresses and field masks
@@ -66,6 +66,7 @@ class Field:
     onwrite: str = ""         # SystemRDL onwrite, e.g. "woclr" (write 1 to clear)
     singlepulse: bool = False  # a write-1 strobe: acts in the clock of the write, reads 0
     intr: bool = False        # an interrupt status bit
+    in_force: bool = False    # a write is a request: a read returns the value in force
 
     @property
     def mask(self) -> int:
@@ -153,10 +154,12 @@ DEMO_BASE = 0x100
 
 # interrupt sources (the bits of IRQ_ENABLE and IRQ_STATUS): the fault latch set, a switching
 # counter wrapped, a sampling tick (the update that takes the next reference has started: feed
-# one now)
+# one now), a short edge (a leg's command changed before the leg had followed the last change:
+# a pulse stretched or swallowed by the minimum pulse or the dead time)
 IRQ_FAULT = _top.IRQ_STATUS_FAULT
 IRQ_COUNTER_WRAP = _top.IRQ_STATUS_COUNTER_WRAP
 IRQ_SAMPLE = _top.IRQ_STATUS_SAMPLE
+IRQ_SHORT_EDGE = _top.IRQ_STATUS_SHORT_EDGE
 IRQ_MASK = _top.IRQ_STATUS_MASK
 
 
@@ -169,14 +172,15 @@ def validate_top_phases(phases) -> int:
 
 
 def info_word(phases: int, width: int, rule: str, upper_active_low: bool,
-              lower_active_low: bool, latency: int, **parameters) -> int:
+              lower_active_low: bool, latency: int, max_bits: int, **parameters) -> int:
     """``INFO``: each field holds the configuration parameter its reset names in the RDL
     (phases [4:0], width [10:5], rule [11] (1 exact_nearest), upper_active_low [12],
-    lower_active_low [13], loop latency [23:16]); a field added there for a new parameter takes
-    it from ``parameters``."""
+    lower_active_low [13], loop latency [23:16], max_bits [27:24], the modes built in [31:28]);
+    a field added there for a new parameter takes it from ``parameters``."""
     values = {"phases": phases, "width": width, "rule": RULES.index(rule),
               "upper_active_low": upper_active_low, "lower_active_low": lower_active_low,
-              "latency": latency, **parameters}
+              "latency": latency, "max_bits": max_bits, "modes": modes_built_in(max_bits),
+              **parameters}
     word = 0
     for f in TOP["INFO"].fields:
         if isinstance(f.reset, str) and f.reset not in values:

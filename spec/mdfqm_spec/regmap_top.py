@@ -47,6 +47,10 @@ __all__ = [
     "INFO_LOWER_ACTIVE_LOW",
     "INFO_LOWER_ACTIVE_LOW_SHIFT",
     "INFO_MASK",
+    "INFO_MAX_BITS",
+    "INFO_MAX_BITS_SHIFT",
+    "INFO_MODES",
+    "INFO_MODES_SHIFT",
     "INFO_PHASES",
     "INFO_PHASES_SHIFT",
     "INFO_RULE",
@@ -63,6 +67,8 @@ __all__ = [
     "IRQ_ENABLE_MASK",
     "IRQ_ENABLE_SAMPLE",
     "IRQ_ENABLE_SAMPLE_SHIFT",
+    "IRQ_ENABLE_SHORT_EDGE",
+    "IRQ_ENABLE_SHORT_EDGE_SHIFT",
     "IRQ_STATUS",
     "IRQ_STATUS_COUNTER_WRAP",
     "IRQ_STATUS_COUNTER_WRAP_SHIFT",
@@ -71,7 +77,15 @@ __all__ = [
     "IRQ_STATUS_MASK",
     "IRQ_STATUS_SAMPLE",
     "IRQ_STATUS_SAMPLE_SHIFT",
+    "IRQ_STATUS_SHORT_EDGE",
+    "IRQ_STATUS_SHORT_EDGE_SHIFT",
     "MIN_PULSE",
+    "MODULATION",
+    "MODULATION_BITS",
+    "MODULATION_BITS_SHIFT",
+    "MODULATION_MASK",
+    "MODULATION_MODE",
+    "MODULATION_MODE_SHIFT",
     "OSR",
     "PARAMETERS",
     "PERIOD",
@@ -84,6 +98,8 @@ __all__ = [
     "STATUS_FAULT_INPUT_SHIFT",
     "STATUS_FAULT_SHIFT",
     "STATUS_MASK",
+    "STATUS_MODE_CLAMPED",
+    "STATUS_MODE_CLAMPED_SHIFT",
     "STATUS_PERIOD_CLAMPED",
     "STATUS_PERIOD_CLAMPED_SHIFT",
     "STATUS_REF_PENDING",
@@ -101,7 +117,9 @@ PARAMETERS = {
     "upper_active_low": False,
     "lower_active_low": False,
     "counter_width": 32,
+    "max_bits": 8,
     "latency": 8,
+    "modes": 5,
 }
 #: word-address bits of the bus: the fewest that hold every register
 ADDR_WIDTH = 6
@@ -122,6 +140,7 @@ EVENTS_TOTAL = 0x0B
 GATES = 0x0C
 IRQ_ENABLE = 0x0D
 IRQ_STATUS = 0x0E
+MODULATION = 0x0F
 REF_BASE = 0x10
 EVENTS_BASE = 0x20
 
@@ -138,7 +157,11 @@ INFO_LOWER_ACTIVE_LOW = 0x00002000
 INFO_LOWER_ACTIVE_LOW_SHIFT = 13
 INFO_LATENCY = 0x00FF0000
 INFO_LATENCY_SHIFT = 16
-INFO_MASK = 0x00FF3FFF
+INFO_MAX_BITS = 0x0F000000
+INFO_MAX_BITS_SHIFT = 24
+INFO_MODES = 0xF0000000
+INFO_MODES_SHIFT = 28
+INFO_MASK = 0xFFFF3FFF
 
 # CTRL fields
 CTRL_ENABLE = 0x00000001
@@ -169,7 +192,9 @@ STATUS_SATURATED = 0x00000010
 STATUS_SATURATED_SHIFT = 4
 STATUS_PERIOD_CLAMPED = 0x00000020
 STATUS_PERIOD_CLAMPED_SHIFT = 5
-STATUS_MASK = 0x0000003F
+STATUS_MODE_CLAMPED = 0x00000040
+STATUS_MODE_CLAMPED_SHIFT = 6
+STATUS_MASK = 0x0000007F
 
 # GATES fields
 GATES_UPPER = 0x0000FFFF
@@ -185,7 +210,9 @@ IRQ_ENABLE_COUNTER_WRAP = 0x00000002
 IRQ_ENABLE_COUNTER_WRAP_SHIFT = 1
 IRQ_ENABLE_SAMPLE = 0x00000004
 IRQ_ENABLE_SAMPLE_SHIFT = 2
-IRQ_ENABLE_MASK = 0x00000007
+IRQ_ENABLE_SHORT_EDGE = 0x00000008
+IRQ_ENABLE_SHORT_EDGE_SHIFT = 3
+IRQ_ENABLE_MASK = 0x0000000F
 
 # IRQ_STATUS fields
 IRQ_STATUS_FAULT = 0x00000001
@@ -194,7 +221,16 @@ IRQ_STATUS_COUNTER_WRAP = 0x00000002
 IRQ_STATUS_COUNTER_WRAP_SHIFT = 1
 IRQ_STATUS_SAMPLE = 0x00000004
 IRQ_STATUS_SAMPLE_SHIFT = 2
-IRQ_STATUS_MASK = 0x00000007
+IRQ_STATUS_SHORT_EDGE = 0x00000008
+IRQ_STATUS_SHORT_EDGE_SHIFT = 3
+IRQ_STATUS_MASK = 0x0000000F
+
+# MODULATION fields
+MODULATION_MODE = 0x00000007
+MODULATION_MODE_SHIFT = 0
+MODULATION_BITS = 0x00000F00
+MODULATION_BITS_SHIFT = 8
+MODULATION_MASK = 0x00000F07
 
 #: every register, in address order
 REGISTERS = (
@@ -215,7 +251,7 @@ REGISTERS = (
         "name": "INFO",
         "offset": 0x01,
         "access": "R",
-        "width": 24,
+        "width": 32,
         "reset": "config",
         "clamp": "",
         "doc": "configuration. The elaboration parameters of this instance.",
@@ -232,7 +268,11 @@ REGISTERS = (
             {"name": "LOWER_ACTIVE_LOW", "lsb": 13, "width": 1, "access": "r",
              "reset": "lower_active_low"},
             {"name": "LATENCY", "lsb": 16, "width": 8, "access": "r", "reset": "latency",
-             "doc": "loop latency L"},
+             "doc": "loop latency L (MDFQM updates)"},
+            {"name": "MAX_BITS", "lsb": 24, "width": 4, "access": "r", "reset": "max_bits",
+             "doc": "largest resolution b of the slot modes (0: MDFQM-only top)"},
+            {"name": "MODES", "lsb": 28, "width": 4, "access": "r", "reset": "modes",
+             "doc": "modulation modes built in: MODULATION.MODE codes 0..MODES-1"},
         ),
     },
     {
@@ -289,7 +329,7 @@ REGISTERS = (
         "name": "STATUS",
         "offset": 0x05,
         "access": "R",
-        "width": 6,
+        "width": 7,
         "reset": "0",
         "clamp": "",
         "doc": "status. SATURATED and PERIOD_CLAMPED are the core's flags of its last update.",
@@ -304,6 +344,17 @@ REGISTERS = (
              "doc": "a committed register beat not yet taken by the core"},
             {"name": "SATURATED", "lsb": 4, "width": 1, "access": "r", "reset": 0},
             {"name": "PERIOD_CLAMPED", "lsb": 5, "width": 1, "access": "r", "reset": 0},
+            {
+                "name": "MODE_CLAMPED",
+                "lsb": 6,
+                "width": 1,
+                "access": "r",
+                "reset": 0,
+                "doc": (
+                    "the last update start used a clamped MODULATION (mode not built in, or b out "
+                    "of range)"
+                ),
+            },
         ),
     },
     {
@@ -410,7 +461,7 @@ REGISTERS = (
         "name": "IRQ_ENABLE",
         "offset": 0x0D,
         "access": "RW",
-        "width": 3,
+        "width": 4,
         "reset": "0",
         "clamp": "",
         "doc": "interrupt enable. The sources that drive irq; other bits dropped.",
@@ -422,13 +473,15 @@ REGISTERS = (
              "doc": "EVENTS_TOTAL passes 2**counter_width - 1"},
             {"name": "SAMPLE", "lsb": 2, "width": 1, "access": "rw", "reset": 0,
              "doc": "sampling tick"},
+            {"name": "SHORT_EDGE", "lsb": 3, "width": 1, "access": "rw", "reset": 0,
+             "doc": "a leg's command changed before the leg had followed the last change"},
         ),
     },
     {
         "name": "IRQ_STATUS",
         "offset": 0x0E,
         "access": "RW",
-        "width": 3,
+        "width": 4,
         "reset": "0",
         "clamp": "",
         "doc": (
@@ -444,6 +497,29 @@ REGISTERS = (
              "onwrite": "woclr", "intr": True},
             {"name": "SAMPLE", "lsb": 2, "width": 1, "access": "rw", "reset": 0,
              "onwrite": "woclr", "intr": True},
+            {"name": "SHORT_EDGE", "lsb": 3, "width": 1, "access": "rw", "reset": 0,
+             "onwrite": "woclr", "intr": True},
+        ),
+    },
+    {
+        "name": "MODULATION",
+        "offset": 0x0F,
+        "access": "RW",
+        "width": 12,
+        "reset": "0",
+        "clamp": "",
+        "doc": (
+            "modulation mode and resolution. A write requests a mode and b; each update start "
+            "takes the request, clamped (codes not built in act as 0, mdfqm; mdfqm uses b = 0; a "
+            "slot mode uses b clamped to [1, max_bits]; STATUS.MODE_CLAMPED flags that update). A "
+            "read returns the mode and b in force: those of the last update start, not the request."
+        ),
+        "count": 1,
+        "fields": (
+            {"name": "MODE", "lsb": 0, "width": 3, "access": "rw", "reset": 0,
+             "doc": "0 mdfqm, 1 svpwm, 2 dpwm0, 3 dpwm1, 4 dpwm (sector clamp)", "in_force": True},
+            {"name": "BITS", "lsb": 8, "width": 4, "access": "rw", "reset": 0,
+             "doc": "resolution b of the slot modes (2**b slots per update)", "in_force": True},
         ),
     },
     {

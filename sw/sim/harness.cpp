@@ -107,8 +107,8 @@ int main(int argc, char **argv) {
     mdfqm_t dev;
     mdfqm_bus_t bus = {bus_read, bus_write, &sim};
     int ok = mdfqm_init(&dev, bus);
-    std::fprintf(sim.log, "INIT %d %u %u %u %u\n", ok, dev.phases, dev.width, dev.latency,
-                 dev.dead_min);
+    std::fprintf(sim.log, "INIT %d %u %u %u %u %u %u\n", ok, dev.phases, dev.width, dev.latency,
+                 dev.dead_min, dev.max_bits, dev.modes);
     mdfqm_set_period(&dev, 60);
     mdfqm_set_osr(&dev, 2);
     mdfqm_set_dead_time(&dev, 70);
@@ -122,8 +122,13 @@ int main(int argc, char **argv) {
     const double full = std::ldexp(1.0, (int)dev.width - 2);
     double angle = 0.0;
     unsigned samples = 0, faults = 0;
-    bool fault_pending_clear = false;
+    bool fault_pending_clear = false, switched = false;
     for (unsigned long t = 0; sim.cycle < 40000; t++) {
+        if (!switched && sim.cycle >= 10000 && dev.max_bits >= 3) {
+            mdfqm_set_modulation(&dev, MDFQM_MODE_SVPWM, 3);   // SVPWM at b = 3 from here on
+            switched = true;
+            continue;
+        }
         sim.fault_in = (sim.cycle >= 20000 && sim.cycle < 20006);
         if (top.irq) {
             mdfqm_irq_causes_t causes = mdfqm_irq_handle(&dev);
@@ -162,6 +167,9 @@ int main(int argc, char **argv) {
     mdfqm_clear_counters(&dev);
     uint32_t total = mdfqm_events_total(&dev), status = mdfqm_status(&dev);
     std::fprintf(sim.log, "CLEARED %x %x\n", total, status);
+    unsigned mode, bits;
+    mdfqm_modulation_in_force(&dev, &mode, &bits);
+    std::fprintf(sim.log, "MODULATION %u %u\n", mode, bits);
     std::fprintf(sim.log, "DONE %u %u\n", samples, faults);
     std::fclose(sim.log);
     top.final();

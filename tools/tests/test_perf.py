@@ -22,16 +22,17 @@ def _params(component):
 def test_configs_cover_the_drop_in_files():
     configs = {c.dropin: c for c in perf.CONFIGS}
     dropins = default_configs(3, 16)
-    assert len(dropins) == 4
+    assert len(dropins) == 5
     for name, factory in dropins:
         assert name in configs, f"drop-in {name} not measured"
         assert _params(configs[name].build()) == _params(factory())
     # and the core at N = 5, as the drop-in file for five phases
     name, factory = default_configs(5, 16)[0]
     assert _params(configs[name].build()) == _params(factory())
-    assert len({c.key for c in perf.CONFIGS}) == len(perf.CONFIGS) == 5
+    assert len({c.key for c in perf.CONFIGS}) == len(perf.CONFIGS) == 6
     assert [c.design for c in perf.CONFIGS] == [
-        "core", "core", "generator (b<=8)", "top, Wishbone", "top, AXI4-Lite"]
+        "core", "core", "generator (b<=8)", "top, Wishbone", "top, AXI4-Lite",
+        "top, MDFQM only"]
 
 
 def test_targets():

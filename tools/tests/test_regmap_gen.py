@@ -15,7 +15,15 @@ import pytest
 
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap
-from mdfqm_spec.contract import RULES, TIME_WIDTH, loop_latency
+from mdfqm_spec.contract import (
+    BITS_WIDTH,
+    MODE_WIDTH,
+    MODES,
+    RULES,
+    TIME_WIDTH,
+    loop_latency,
+    modes_built_in,
+)
 from tools import regmap_gen
 from tools.regmap_gen import clamp_value, compile_rdl, describe, generate, table_of
 
@@ -148,8 +156,12 @@ def test_the_map_keeps_the_contract():
     enable, status = regmap.TOP["IRQ_ENABLE"], regmap.TOP["IRQ_STATUS"]
     assert [(f.name, f.lsb) for f in enable.fields] == [(f.name, f.lsb) for f in status.fields]
     assert all(f.intr and f.onwrite == "woclr" for f in status.fields)
-    assert (regmap.IRQ_FAULT, regmap.IRQ_COUNTER_WRAP, regmap.IRQ_SAMPLE, regmap.IRQ_MASK) == \
-        (1, 2, 4, 7)
+    assert (regmap.IRQ_FAULT, regmap.IRQ_COUNTER_WRAP, regmap.IRQ_SAMPLE, regmap.IRQ_SHORT_EDGE,
+            regmap.IRQ_MASK) == (1, 2, 4, 8, 15)
+    assert regmap.PARAMETERS["modes"] == modes_built_in(regmap.PARAMETERS["max_bits"]) == \
+        len(MODES)
+    assert regmap.MODULATION_MODE == (1 << MODE_WIDTH) - 1
+    assert regmap.MODULATION_BITS >> regmap.MODULATION_BITS_SHIFT == (1 << BITS_WIDTH) - 1
     assert all(f.singlepulse and f.access == "w" for f in regmap.TOP["CMD"].fields)
 
 
@@ -164,6 +176,7 @@ CONFIGS = [
     {},
     {"phases": 5, "width": 18, "rule": "exact_nearest", "dead_min": 7, "upper_active_low": True,
      "lower_active_low": False, "counter_width": 16},
+    {"max_bits": 0},
 ]
 
 
@@ -173,6 +186,7 @@ def _rdl_parameters(config: dict) -> dict:
     rule = config.get("rule", RULES[params["rule"]])
     params["rule"] = RULES.index(rule)
     params["latency"] = loop_latency(params["phases"], rule)
+    params["modes"] = modes_built_in(params["max_bits"])
     return params
 
 
@@ -189,7 +203,7 @@ def _addresses(reg, phases):
     return [reg.offset + i for i in ((0, phases - 1) if reg.count > 1 else (0,))]
 
 
-@pytest.mark.parametrize("config", CONFIGS, ids=["dropin", "n5_w18"])
+@pytest.mark.parametrize("config", CONFIGS, ids=["dropin", "n5_w18", "mdfqm_only"])
 def test_rdl_resets_are_the_models(compiled, config):
     """Each register read first thing after reset equals the RDL's reset for that
     configuration's parameters."""
@@ -202,7 +216,7 @@ def test_rdl_resets_are_the_models(compiled, config):
             assert _access(TopModel(**config), address, 0) == want, (reg.name, address)
 
 
-@pytest.mark.parametrize("config", CONFIGS, ids=["dropin", "n5_w18"])
+@pytest.mark.parametrize("config", CONFIGS, ids=["dropin", "n5_w18", "mdfqm_only"])
 def test_rdl_clamps_are_the_models(compiled, config):
     """A write of each word to each stored read/write register of the RDL reads back what its
     fields' clamps give (the written bits where a field has none)."""
@@ -213,6 +227,8 @@ def test_rdl_clamps_are_the_models(compiled, config):
         if {f.get_property("sw").name for f in fields} != {"rw"} or \
                 any(f.get_property("onwrite") or f.get_property("intr") for f in fields):
             continue
+        if {f.get_property("hw").name for f in fields} == {"w"}:
+            continue        # reads the value in force (MODULATION): test_modulation_reads_...
         for address in _addresses(regmap.TOP[node.inst_name], params["phases"]):
             model = TopModel(**config)
             for word in WORDS:
@@ -312,7 +328,7 @@ def test_an_rdl_that_disagrees_with_the_committed_map_fails(tmp_path):
     """A scratch copy of the RDL with OSR's clamp and CTRL's address changed: the generator's
     check names both committed files, the field-by-field comparison names both registers."""
     text = regmap_gen.RDL.read_text()
-    edits = {'clamp = "min(v, 255)"': 'clamp = "min(v, 127)"', "} CTRL @ 0x0C;": "} CTRL @ 0x3C;"}
+    edits = {'clamp = "min(v, 255)"': 'clamp = "min(v, 127)"', "} CTRL @ 0x0C;": "} CTRL @ 0xC0;"}
     for old, new in edits.items():
         assert text.count(old) == 1
         text = text.replace(old, new)

@@ -1,0 +1,110 @@
+"""Closed-loop stimulus for the drop-in top (either front, any size), with the expected
+outputs from :class:`mdfqm_model.top.TopModel`: used by the drop-in files' vector runs
+(tb/test_dropin_files.py) and the top's long vector regression (tb/test_top_vectors.py)."""
+
+import math
+from collections import deque
+
+from harness import pack
+from mdfqm_model.top import TopModel
+from mdfqm_spec import regmap as regs
+from mdfqm_spec.contract import Contract
+from vectors import ports_of
+
+
+def top_stimulus(rng, component, phases, width, cycles):
+    """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
+    Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``, a
+    fault pulse and its clear, sync pulses and a reset in the middle; the settings make the
+    gates switch within a few thousand clocks; MODULATION written now and then (any mode code,
+    small b). Returns (inputs, expected outputs) by port, and the set of modes that were in
+    force in some clock."""
+    axi = component.bus == "axi4lite"
+    model = TopModel(phases, width, component.rule, component.dead_min,
+                     component.upper_active_low, component.lower_active_low, bus=component.bus,
+                     counter_width=component.counter_width, max_bits=component.max_bits)
+    contract = Contract(phases, width)
+    inputs, outputs = ports_of(component)
+    stim = {port: [] for port, _ in inputs}
+    expected = {port: [] for port, _ in outputs}
+    amplitude = 0.5 * contract.full
+
+    def settings():
+        return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
+                      (regs.PERIOD, 1, rng.choice([90, 130, 170])),
+                      (regs.DEAD, 1, 0), (regs.MIN_PULSE, 1, rng.randrange(8)),
+                      (regs.ADC_OFFSET, 1, rng.randrange(100)),
+                      (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
+
+    ops = settings()
+    current, gap, angle, offered = None, 0, rng.uniform(0, 2 * math.pi), None
+    aw_done = w_done = ar_done = False
+    fault_until = -1
+    modes = set()
+    for cycle in range(cycles):
+        rst = int(cycle == 0 or cycle == cycles // 2)
+        if rst:
+            ops, current = settings(), None
+        if not ops and rng.random() < 0.02:      # firmware: reads, commits, clears, settings
+            ops.extend(rng.choice([
+                [(rng.randrange(64), 0, 0)],
+                [(regs.REF_BASE + i, 1, pack([rng.randrange(-40000, 40000)], 32))
+                 for i in range(phases)] + [(regs.CMD, 1, regs.CMD_REF_COMMIT)],
+                [(regs.CMD, 1, regs.CMD_FAULT_CLEAR), (regs.STATUS, 0, 0)],
+                [(regs.CMD, 1, regs.CMD_COUNT_CLEAR), (regs.EVENTS_TOTAL, 0, 0)],
+                [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
+                [(rng.randrange(64), 1, rng.getrandbits(32))],
+                [(regs.MODULATION, 1, rng.randrange(8) << regs.MODULATION_MODE_SHIFT
+                  | rng.choice([1, 2, 3, 15]) << regs.MODULATION_BITS_SHIFT),
+                 (regs.MODULATION, 0, 0)],
+            ]))
+        if current is None and ops and gap == 0:
+            current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
+        gap = max(0, gap - 1)
+        adr, we, data = current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
+        busy = current is not None
+        if axi:
+            byte = adr << 2 | rng.randrange(4)
+            bus = {"s_axi_awaddr": byte, "s_axi_awprot": rng.randrange(8),
+                   "s_axi_awvalid": int(busy and we and not aw_done), "s_axi_wdata": data,
+                   "s_axi_wstrb": rng.randrange(16),
+                   "s_axi_wvalid": int(busy and we and not w_done),
+                   "s_axi_bready": int(rng.random() < 0.6), "s_axi_araddr": byte,
+                   "s_axi_arprot": rng.randrange(8),
+                   "s_axi_arvalid": int(busy and not we and not ar_done),
+                   "s_axi_rready": int(rng.random() < 0.6)}
+        else:
+            bus = {"wb_cyc": int(busy), "wb_stb": int(busy), "wb_we": we, "wb_adr": adr,
+                   "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
+        if offered is None and rng.random() < 0.3:
+            angle += 0.05
+            offered = [round(amplitude * math.cos(angle - 2 * math.pi * i / phases))
+                       for i in range(phases)]
+        if cycle == cycles // 4:
+            fault_until = cycle + rng.randrange(3, 20)
+        fault_in = int(cycle <= fault_until)
+        sync_in = int(rng.random() < 0.003)
+        payload, valid = offered or [0] * phases, int(offered is not None)
+        modes.add(getattr(model.core, "mode_lat", 0))
+        out = model.step(rst=rst, ref_valid=valid, ref=payload,
+                         fault_in=fault_in, sync_in=sync_in, **bus)
+        if offered is not None and out["ref_ready"] and not rst:
+            offered = None
+        if busy and not rst:                      # the master sees this cycle's outputs
+            if axi:
+                aw_done |= bool(bus["s_axi_awvalid"] and out["s_axi_awready"])
+                w_done |= bool(bus["s_axi_wvalid"] and out["s_axi_wready"])
+                ar_done |= bool(bus["s_axi_arvalid"] and out["s_axi_arready"])
+                done = ((out["s_axi_bvalid"] and bus["s_axi_bready"]) if we
+                        else (out["s_axi_rvalid"] and bus["s_axi_rready"]))
+            else:
+                done = out["wb_ack"]
+            if done:
+                current, gap = None, rng.choice([0, 0, 1, 3])
+        values = {"rst": rst, "ref_valid": valid, "ref_payload": pack(payload, width),
+                  "fault_in": fault_in, "sync_in": sync_in, **bus}
+        for port, _ in inputs:                    # model names: wb__ack -> wb_ack
+            stim[port].append(values[port.replace("__", "_")])
+        for port, _ in outputs:
+            expected[port].append(out[port.replace("__", "_")])
+    return stim, expected, modes
