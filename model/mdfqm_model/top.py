@@ -127,7 +127,6 @@ from mdfqm_spec.regmap import (
     MODULATION_BITS_SHIFT,
     MODULATION_MODE_SHIFT,
     OSR,
-    PARAMETERS,
     PERIOD,
     REF_BASE,
     STATUS,
@@ -138,6 +137,7 @@ from mdfqm_spec.regmap import (
     STATUS_PERIOD_CLAMPED,
     STATUS_REF_PENDING,
     STATUS_SATURATED,
+    default_max_bits,
     info_word,
     validate_top_phases,
 )
@@ -257,7 +257,7 @@ class TopModel:
         self.front = FRONTS[validate_bus(bus)](phases)
         validate_dead_min(dead_min, TIME_WIDTH)
         if max_bits is None:            # MdfqmTop's default
-            max_bits = min(PARAMETERS["max_bits"], width - 2)
+            max_bits = default_max_bits(width)
         self.max_bits = validate_top_max_bits(max_bits, width)
         self.core = (GeneratorModel(phases, width, rule, max_bits) if max_bits else
                      CoreModel(phases, width, rule))

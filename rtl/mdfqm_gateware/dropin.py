@@ -20,13 +20,14 @@ from pathlib import Path
 
 from amaranth.back import verilog
 
+from mdfqm_spec.regmap import default_max_bits
+
 from .core import MdfqmCore
 from .generator import GatingSignalGenerator
 from .top import MdfqmTop
 
 __all__ = [
     "AMARANTH_STYLE_WAIVERS",
-    "DROP_IN_MAX_BITS",
     "default_configs",
     "dropin_verilog",
     "lint",
@@ -36,14 +37,9 @@ __all__ = [
 ]
 
 
-#: the generator's finest resolution in the drop-in file: 2**8 slots per update (SVPWM with an
-#: 8-bit duty), or fewer when the width leaves less room
-DROP_IN_MAX_BITS = 8
-
-
 #: (module name, constructor) of every drop-in file `make` writes
 def default_configs(phases: int, width: int):
-    bits = min(DROP_IN_MAX_BITS, width - 2)
+    bits = default_max_bits(width)
     return [
         (f"mdfqm_core_n{phases}_w{width}", lambda: MdfqmCore(phases, width)),
         (f"mdfqm_generator_n{phases}_w{width}_b{bits}",

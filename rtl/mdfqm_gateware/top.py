@@ -136,7 +136,7 @@ class MdfqmTop(wiring.Component):
         self.formal = validate_bool(formal, "formal")
         self.phases, self.width = phases, width
         if max_bits is None:
-            max_bits = min(regmap.PARAMETERS["max_bits"], width - 2)
+            max_bits = regmap.default_max_bits(width)
         self.max_bits = validate_top_max_bits(max_bits, width)
         self.latency = loop_latency(phases, rule)
         self.long_latency = resolution_latency(phases, max_bits) if max_bits else self.latency

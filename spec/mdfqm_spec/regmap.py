@@ -43,6 +43,7 @@ __all__ = [
     "Field",
     "Register",
     "Window",
+    "default_max_bits",
     "demo_window",
     "info_word",
     "validate_top_phases",
@@ -161,6 +162,13 @@ IRQ_COUNTER_WRAP = _top.IRQ_STATUS_COUNTER_WRAP
 IRQ_SAMPLE = _top.IRQ_STATUS_SAMPLE
 IRQ_SHORT_EDGE = _top.IRQ_STATUS_SHORT_EDGE
 IRQ_MASK = _top.IRQ_STATUS_MASK
+
+
+def default_max_bits(width: int) -> int:
+    """The top's (and the drop-in files') default ``max_bits``: the RDL's ``max_bits`` (8:
+    2**8 slots per update, SVPWM with an 8-bit duty), or fewer when the width leaves less room
+    (``width - 2``)."""
+    return min(PARAMETERS["max_bits"], width - 2)
 
 
 def validate_top_phases(phases) -> int:
