@@ -144,6 +144,21 @@ void mdfqm_modulation_in_force(const mdfqm_t *dev, unsigned *mode, unsigned *bit
     *bits = FIELD(word, MODULATION, BITS);
 }
 
+void mdfqm_set_watchdog(const mdfqm_t *dev, uint32_t updates)
+{
+    wr(dev, MDFQM_TOP__WATCHDOG_OFFSET, updates);
+}
+
+void mdfqm_clear_watchdog(const mdfqm_t *dev)
+{
+    wr(dev, MDFQM_TOP__CMD_OFFSET, MDFQM_TOP__CMD__WATCHDOG_CLEAR_bm);
+}
+
+uint32_t mdfqm_watchdog_trips(const mdfqm_t *dev)
+{
+    return rd(dev, MDFQM_TOP__WATCHDOG_TRIPS_OFFSET);
+}
+
 void mdfqm_irq_enable(const mdfqm_t *dev, uint32_t sources)
 {
     wr(dev, MDFQM_TOP__IRQ_ENABLE_OFFSET, sources);
@@ -158,5 +173,6 @@ mdfqm_irq_causes_t mdfqm_irq_handle(const mdfqm_t *dev)
     causes.counter_wrap = FIELD(status, IRQ_STATUS, COUNTER_WRAP) != 0u;
     causes.sample = FIELD(status, IRQ_STATUS, SAMPLE) != 0u;
     causes.short_edge = FIELD(status, IRQ_STATUS, SHORT_EDGE) != 0u;
+    causes.watchdog = FIELD(status, IRQ_STATUS, WATCHDOG) != 0u;
     return causes;
 }

@@ -45,6 +45,8 @@ typedef struct {
     bool sample;             /* a sampling tick: write the next reference now */
     bool short_edge;         /* a pulse shorter than dead time + minimum pulse was swallowed or
                                 stretched (a slot or an update too short for the settings) */
+    bool watchdog;           /* the reference watchdog tripped: gates are off until
+                                mdfqm_clear_watchdog */
 } mdfqm_irq_causes_t;
 
 /* MODULATION.MODE codes (docs/top.md, "Modulation mode and resolution"). */
@@ -85,6 +87,16 @@ void mdfqm_clear_counters(const mdfqm_t *dev);
 /* Clears the fault latch; it stays set while the fault input is still active. Returns whether
  * the latch is clear afterwards. Gates resume at the next update boundary with the enable. */
 bool mdfqm_clear_fault(const mdfqm_t *dev);
+
+/* The reference watchdog (docs/top.md, "Reference watchdog"): 0 turns it off (the reset value);
+ * otherwise the update starts allowed without a new reference (a beat on the ref port or a
+ * mdfqm_write_reference), saturated at 65535. The next start without one turns every gate off
+ * until mdfqm_clear_watchdog. */
+void mdfqm_set_watchdog(const mdfqm_t *dev, uint32_t updates);
+/* Clears the watchdog latch (gates resume at the next update boundary with the enable). */
+void mdfqm_clear_watchdog(const mdfqm_t *dev);
+/* Trips since reset or mdfqm_clear_counters (saturating at 65535). */
+uint32_t mdfqm_watchdog_trips(const mdfqm_t *dev);
 
 /* IRQ_ENABLE sources (MDFQM_TOP__IRQ_ENABLE__*_bm). */
 void mdfqm_irq_enable(const mdfqm_t *dev, uint32_t sources);

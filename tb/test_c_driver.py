@@ -89,14 +89,16 @@ def test_every_clock_equals_the_model(run_log):
     # what the harness asked the driver to set is what the registers hold (a driver writing the
     # wrong offset or field would pass the clock-by-clock comparison, not this)
     settings = (model.period, model.osr, model.dead, model.min_pulse, model.adc_offset,
-                model.ctrl, model.irq_enable)
+                model.ctrl, model.irq_enable, model.wd_timeout)
     assert settings == (60, 2, 70, 3, 5, regs.CTRL_ENABLE | regs.CTRL_ZERO_POLICY,
-                        regs.IRQ_ENABLE_FAULT | regs.IRQ_ENABLE_SAMPLE)
+                        regs.IRQ_ENABLE_FAULT | regs.IRQ_ENABLE_SAMPLE | regs.IRQ_ENABLE_WATCHDOG,
+                        6)
 
 
 def test_the_driver_did_its_job(run_log):
     """What firmware would see: the instance identified, interrupts served, the fault set and
-    cleared, gates switching, counters read and cleared."""
+    cleared, gates switching, counters read and cleared, a stalled loop tripping the watchdog
+    once, cleared."""
     _, p = top_params()
     tagged = {}
     for line in run_log:
@@ -108,8 +110,12 @@ def test_the_driver_did_its_job(run_log):
     assert (latency, max_bits, modes) == (model.latency, model.max_bits, 5) and max_bits >= 3
     assert tagged["MODULATION"][0] == ["1", "3"], "SVPWM at b = 3 not in force"
     causes = [tuple(map(int, c)) for c in tagged["IRQ"]]
-    samples, faults = map(int, tagged["DONE"][0])
-    assert sum(c[2] for c in causes) == samples > 50, "sampling interrupts not served"
+    samples, faults, skipped, watchdogs, trips_after_clear = map(int, tagged["DONE"][0])
+    assert sum(c[2] for c in causes) == samples + skipped and samples > 50, \
+        "sampling interrupts not served"
+    assert skipped > 5 and sum(c[3] for c in causes) == watchdogs == 1, \
+        "the stalled loop did not trip the watchdog once"
+    assert "WATCHDOG_CLEAR" in tagged and trips_after_clear == 0
     assert sum(c[0] for c in causes) == faults == 1, "the fault interrupt not seen once"
     assert tagged["CLEAR"][-1] == ["1"], "the fault was never cleared"
     clocks = [line.split() for line in run_log if line.startswith("C ")]
@@ -120,4 +126,4 @@ def test_the_driver_did_its_job(run_log):
     *legs, total = (int(v, 16) for v in tagged["COUNTS"][0])
     assert len(legs) == phases and total == sum(legs) and turn_ons > 100 and total > 100
     cleared_total, status = (int(v, 16) for v in tagged["CLEARED"][0])
-    assert cleared_total < 8 and status & regs.STATUS_FAULT == 0
+    assert cleared_total < 8 and status & (regs.STATUS_FAULT | regs.STATUS_WATCHDOG) == 0

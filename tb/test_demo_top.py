@@ -79,7 +79,8 @@ def host_script(config, rng):
         assert (reply.status, reply.addr, reply.data) == (proto.CMD_WRITE, addr, data), reply
 
     top = {name: TOP_BASE + getattr(top_map, name) for name in
-           ("ID", "CTRL", "CMD", "STATUS", "PERIOD", "DEAD", "MIN_PULSE", "EVENTS_BASE")}
+           ("ID", "CTRL", "CMD", "STATUS", "PERIOD", "DEAD", "MIN_PULSE", "EVENTS_BASE",
+            "MODULATION")}
 
     # identification, and the settings the sequencer wrote after reset
     assert (yield from read(demo.addr("ID"))) == ID_VALUE
@@ -122,6 +123,18 @@ def host_script(config, rng):
     yield ("idle", 200)
     status = yield from read(top["STATUS"])
     assert status & top_map.STATUS_ACTIVE and not status & top_map.STATUS_FAULT
+
+    # the modulation mode changed while running: SVPWM b = 3, DPWM b = 2, back to MDFQM (every
+    # pin still checked against the model); a board with the MDFQM-only top clamps and flags it
+    for mode, bits in ((1, 3), (4, 2), (0, 0)):
+        word = mode << top_map.MODULATION_MODE_SHIFT | bits << top_map.MODULATION_BITS_SHIFT
+        yield from write(top["MODULATION"], word)
+        yield ("idle", 600)
+        in_force = yield from read(top["MODULATION"])
+        status = yield from read(top["STATUS"])
+        assert in_force == (word if config.max_bits else 0), (mode, bits, in_force)
+        assert bool(status & top_map.STATUS_MODE_CLAMPED) == (mode != 0 and not config.max_bits)
+        assert status & top_map.STATUS_ACTIVE
 
     # line errors: a bad checksum and an unmapped address
     bad = bytearray(proto.encode_write(top["CTRL"], 0))

@@ -13,13 +13,13 @@ from amaranth.sim import Simulator
 from formal import NoDeadTimeLeg
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.driver import GateDriver, LegDriver
-from mdfqm_model.driver import DRIVER_OUTPUTS, GateDriverModel, check_gate_safety
+from mdfqm_model.driver import DRIVER_INPUTS, DRIVER_OUTPUTS, GateDriverModel, check_gate_safety
 
 # (phases, dead_min, time_width, upper_active_low, lower_active_low)
 CASES = [(3, 1, 16, False, False), (5, 4, 16, True, False), (6, 2, 6, True, True),
          (3, 3, 16, False, True)]           # every pair of pin polarities
 
-INPUTS = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear")
+INPUTS = DRIVER_INPUTS
 
 
 class Stimulus:
@@ -78,7 +78,7 @@ def generate(rng, scenario, p, cycles):
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in DRIVER_OUTPUTS}
     up, lo, in_force = [], [], []
-    chatter = 0
+    chatter = stopped = 0
     for cycle in range(cycles):
         rst = fault_in = clear = 0
         if scenario == "random":
@@ -92,6 +92,8 @@ def generate(rng, scenario, p, cycles):
                 s.min_pulse = rng.choice([0, 1, 3, 10, 30, min(s.top, 200)])
             if rng.random() < 0.002:
                 chatter = rng.randint(1, 12)
+            if rng.random() < 0.002:        # a watchdog trip: stop held a while, then cleared
+                stopped = rng.choice([1, 2, 7, 40])
             clear = int(rng.random() < 0.03)
             rst = int(rng.random() < 0.0007)
         elif scenario == "fault_chatter":
@@ -125,10 +127,13 @@ def generate(rng, scenario, p, cycles):
         if chatter:
             chatter -= 1
             fault_in = rng.randint(0, 1) if chatter > 1 else 1
+        stop = int(stopped > 0)
+        stopped = max(stopped - 1, 0)
         update = s.update_strobe()
         h = s.h if update or rng.random() < 0.5 else rng.randrange(1 << n)  # noise between
         inputs = {"rst": rst, "h": h, "update": update, "enable": s.enable, "dead": s.dead,
-                  "min_pulse": s.min_pulse, "fault_in": fault_in, "fault_clear": clear}
+                  "min_pulse": s.min_pulse, "fault_in": fault_in, "fault_clear": clear,
+                  "stop": stop}
         in_force.append(model.dead_in_force)     # the legs act on last clock's dead
         out = model.step(**inputs)
         for name in INPUTS:
@@ -139,7 +144,8 @@ def generate(rng, scenario, p, cycles):
         up.append(out["upper"] ^ (mask if p["upper_active_low"] else 0))
         lo.append(out["lower"] ^ (mask if p["lower_active_low"] else 0))
     CARRY["last"] = {name: stim[name][-1] for name in INPUTS}
-    turn_ons = check_gate_safety(up, lo, n, dead=in_force, kill=expected["fault_input"],
+    kill = [f | k for f, k in zip(expected["fault_input"], stim["stop"], strict=True)]
+    turn_ons = check_gate_safety(up, lo, n, dead=in_force, kill=kill,
                                  rst=stim["rst"], dt_run0=dt_run0)
     return stim, expected, turn_ons
 
@@ -220,7 +226,8 @@ def simulate_properties(dut, phases, dead_min, time_width, seed, cycles, compare
                   "update": int(rng.random() < 0.2), "enable": int(rng.random() < 0.85),
                   "dead": int(rng.choice([0, 1, dead_min, 3, 6, top])),
                   "min_pulse": int(rng.choice([0, 1, 4, 12])),
-                  "fault_in": int(rng.random() < 0.02), "fault_clear": int(rng.random() < 0.1)}
+                  "fault_in": int(rng.random() < 0.02), "fault_clear": int(rng.random() < 0.1),
+                  "stop": int(rng.random() < 0.01)}
             for name, value in kw.items():
                 ctx.set(cd.rst if name == "rst" else getattr(dut, name), value)
             want = model.step(**kw)

@@ -236,6 +236,26 @@ def test_sby_finds_an_ungated_fault():
                 keep_failed=False, mutation=("cd dut", "connect -set fault_active 1'0", "cd"))
 
 
+class UnwiredWatchdogTop(MdfqmTop):
+    """A broken top whose watchdog latch does not reach the driver (the last assignment to
+    the driver's ``stop`` wins)."""
+
+    def elaborate(self, platform):
+        m = super().elaborate(platform)
+        m.d.comb += m.submodules.driver.stop.eq(0)
+        return m
+
+
+def test_sby_finds_a_watchdog_that_does_not_stop_the_gates(monkeypatch):
+    """The top with its watchdog latch no longer reaching the driver: "gates off a clock after
+    the latch" has a counterexample (a free core, so the trip is a few clocks away)."""
+    monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
+    site = assertion_site(top_module.__file__, "gates on a clock after the watchdog latch")
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
+        run_sby(UnwiredWatchdogTop(3, 16, dead_min=2, formal=True), "top_watchdog_unwired", 14,
+                tasks=("bmc",), keep_failed=False)
+
+
 def test_sby_finds_an_unbounded_integrator():
     """Integrating although the result does not fit: the wrap is caught."""
     site = assertion_site(integrator.__file__,

@@ -134,16 +134,26 @@ def test_device_settings_in_physical_units():
     assert abs(f - 50.0) < 24e6 / 2**32 and client.read(DEMO.addr("NCO_FREQ")) == 8948
     assert demo.set_amplitude(0.5) == 0.5 and client.read(DEMO.addr("NCO_AMP")) == 8192
     demo.enable(True)
-    demo.set_mode("fewest-transitions")
+    demo.set_zero_policy("fewest-transitions")
     status = demo.status()
-    assert status.enabled and status.mode == "fewest-transitions"
+    assert status.enabled and status.zero_policy == "fewest-transitions"
+    assert (status.modulation, status.bits) == ("mdfqm", 0)       # the reset mode
+    assert (demo.info.max_bits, demo.info.modes) == (8, 5)
+    assert demo.set_modulation("svpwm", 3) == ("svpwm", 3)
+    assert client.read(demo.map.modulation) == 1 | 3 << 8
+    assert demo.set_modulation("dpwm1") == ("dpwm1", 8)           # b defaults to the largest
+    status = demo.status()
+    assert (status.modulation, status.bits, status.zero_policy) == ("dpwm1", 8,
+                                                                     "fewest-transitions")
+    demo.set_watchdog(12)
+    assert demo.status().watchdog == 12 and demo.status().watchdog_trips == 0
     assert status.flags["active"] and not status.flags["fault"]
     assert demo.set_update_rate(100e3) == 100e3 and client.read(demo.map.period) == 240
     assert demo.set_dead_time(0) == client.read(demo.map.dead_min) * 1e9 / 24e6   # the floor
     demo.set_min_pulse(1000)
     assert client.read(demo.map.min_pulse) == 24
     demo.enable(False)
-    assert not demo.status().enabled and demo.status().mode == "fewest-transitions"
+    assert not demo.status().enabled and demo.status().zero_policy == "fewest-transitions"
     first = demo.counters()
     demo.enable(True)
     clock.sleep(0.5)
@@ -154,8 +164,13 @@ def test_device_settings_in_physical_units():
 @pytest.mark.parametrize(("call", "message"), [
     (lambda d: d.set_frequency(-1), "frequency must be in [0, 12000000) Hz, not -1"),
     (lambda d: d.set_amplitude(2.5), "amplitude must be in [0, 2) Vdc, not 2.5"),
-    (lambda d: d.set_mode("svpwm"),
-     "mode must be one of ['all-off', 'fewest-transitions'], not 'svpwm'"),
+    (lambda d: d.set_zero_policy("svpwm"),
+     "zero policy must be one of ['all-off', 'fewest-transitions'], not 'svpwm'"),
+    (lambda d: d.set_modulation("all-off"),
+     "modulation must be one of ['mdfqm', 'svpwm', 'dpwm0', 'dpwm1', 'dpwm'] on this bitstream "
+     "(max_bits 8), not 'all-off'"),
+    (lambda d: d.set_modulation("svpwm", 9), "bits must be in [1, 8], not 9"),
+    (lambda d: d.set_watchdog(70000), "watchdog must be in [0, 65535] update starts, not 70000"),
     (lambda d: d.set_dead_time(1e7), "dead time must be in [0, 2730625] ns at 24000000 Hz, "
                                      "not 10000000.0"),
     (lambda d: d.set_update_rate(100), "update rate 100 Hz needs PERIOD 240000, outside "
@@ -192,14 +207,21 @@ def run_cli(capsys, *argv):
 def test_cli_commands(capsys):
     code, out = run_cli(capsys, "info")
     assert code == 0 and "3 phases, 16-bit references" in out and "MdfqmTop" in out
-    code, out = run_cli(capsys, "set", "--freq", "60", "--amp", "0.4", "--mode", "all-off",
+    assert "modulation mdfqm; built in: mdfqm, svpwm, dpwm0, dpwm1, dpwm (max b 8)" in out
+    assert "zero policy all-off" in out and "watchdog   off, 0 trips" in out
+    code, out = run_cli(capsys, "set", "--freq", "60", "--amp", "0.4", "--modulation", "svpwm",
+                        "--bits", "4", "--zero-policy", "all-off",
                         "--dead-time", "500", "--min-pulse", "0", "--update-rate", "90000",
-                        "--osr", "2", "--clear-fault", "--enable")
+                        "--osr", "2", "--watchdog", "40", "--clear-fault", "--enable")
     assert code == 0
-    assert out.splitlines() == ["frequency 60.0019 Hz", "amplitude 0.4000 Vdc", "mode all-off",
+    assert out.splitlines() == ["frequency 60.0019 Hz", "amplitude 0.4000 Vdc",
+                                "modulation svpwm b = 4", "zero policy all-off",
                                 "dead time 3556 ns", "minimum pulse 0 ns",
-                                "update rate 90.000 kHz",
-                                "OSR 2", "fault cleared", "enabled"]
+                                "update rate 90.000 kHz", "OSR 2", "watchdog 40",
+                                "fault cleared", "enabled"]
+    with pytest.raises(SystemExit, match="--mode is gone: the zero-state policy is "
+                                         "--zero-policy"):
+        main(["--port", "sim://", "set", "--mode", "all-off"])
     code, out = run_cli(capsys, "counters")
     assert code == 0 and out.startswith("cycles ") and "leg 2:" in out
     code, out = run_cli(capsys, "monitor", "--count", "2", "--interval", "0")

@@ -29,7 +29,7 @@ CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone", 32, 8),
          (5, 16, "exact_nearest", 5, True, True, "wishbone", 32, 4),
          (3, 16, "largest_duty", 4, False, True, "axi4lite", 8, 0)]
 SINGLE_TESTS = ["top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
-                "top_fault", "top_interrupt", "top_bad_input"]
+                "top_fault", "top_interrupt", "top_watchdog", "top_bad_input"]
 
 COMMON_INPUTS = ("rst", "ref__valid", "ref__payload", "fault_in", "sync_in")
 COMMON_OUTPUTS = {"ref__ready": "ref_ready", "upper": "upper", "lower": "lower",
@@ -183,7 +183,7 @@ class Bench:
         self.stim = {prefix + name: [] for name in inputs}
         self.expected = {prefix + name: [] for name in outputs}
         self.trace = {k: [] for k in ("up", "lo", "dead", "kill", "rst", "adc_offset",
-                                      "count_clear", "short_edge", "mode")}
+                                      "count_clear", "short_edge", "mode", "watchdog")}
         self.mode_cycle = []         # MODULATION modes still to be written (random order)
         self.issued_reads = deque()  # (issue cycle, address) of reads not yet answered
         self.reads = []          # (issue cycle, address, value)
@@ -232,7 +232,7 @@ class Bench:
         write, read = m.front.access(bus)
         t = self.trace
         t["dead"].append(m.driver.dead_in_force)     # the legs act on last clock's DEAD
-        t["kill"].append(m.driver.fault_input)
+        t["kill"].append(m.driver.fault_input | m.wd_tripped)    # the watchdog: driver stop
         t["rst"].append(rst)
         t["adc_offset"].append(m.adc_offset)
         t["count_clear"].append(int(not rst and write is not None and write[0] == regs.CMD
@@ -240,6 +240,7 @@ class Bench:
         t["up"].append(m.driver.up)
         t["lo"].append(m.driver.lo)
         t["short_edge"].append(m.driver.short_edge)
+        t["watchdog"].append(m.wd_tripped)
         t["mode"].append(getattr(m.core, "mode_lat", 0))
         if read is not None and not rst:
             self.issued_reads.append((self.cycle, read))
@@ -485,6 +486,9 @@ def build_interrupt(b, rng, p):
             b.modulation()
         if cycle in (3000, 3600):
             b.write(regs.MIN_PULSE, 30 if cycle == 3000 else 0)
+        if cycle in (5000, 5400):       # a trip: the stream pauses with a 2-update timeout
+            b.write(regs.WATCHDOG, 2 if cycle == 5000 else 0)
+            b.write(regs.CMD, 0 if cycle == 5000 else regs.CMD_WATCHDOG_CLEAR)
         if b.idle():
             if clear_due:
                 b.write(regs.CMD, regs.CMD_FAULT_CLEAR)
@@ -499,7 +503,7 @@ def build_interrupt(b, rng, p):
                 b.write(regs.IRQ_ENABLE, rng.choice([0, regs.IRQ_SAMPLE, regs.IRQ_FAULT | 2,
                                                      regs.IRQ_MASK, 0xFFFFFFFF]))
                 b.read(regs.IRQ_ENABLE)
-        b.tick(fault_in=fault_in)
+        b.tick(fault_in=fault_in, stream=not 5100 <= cycle < 5300)
     assert served > 20, "the interrupt was never served"
     raised = [bool(v) for v in b.expected[b.prefix + "irq"]]
     assert any(raised) and not all(raised)
@@ -516,6 +520,52 @@ def build_interrupt(b, rng, p):
     assert seen & regs.IRQ_MASK == (regs.IRQ_MASK if wraps else regs.IRQ_MASK
                                     & ~regs.IRQ_COUNTER_WRAP)
     assert wraps or p["counter_width"] == 32, f"only {turn_ons} turn-ons: no counter wrapped"
+
+
+def build_watchdog(b, rng, p):
+    """A controller that stalls: the stream pauses (or register commits stop) for random
+    stretches against random timeouts (0 = off, 1, small, the clamp of a huge write); trips read
+    through STATUS / WATCHDOG_TRIPS / IRQ_STATUS, cleared through CMD (also while the stream is
+    still away, and with COUNT_CLEAR in the same write), a clear in the clock of a trip."""
+    configure(b, period=rng.choice([9, 16, 25]), dead=3, osr=rng.choice([1, 2]))
+    b.write(regs.IRQ_ENABLE, regs.IRQ_WATCHDOG)
+    b.write(regs.WATCHDOG, 3)
+    b.run_until_idle()
+    stall = 0
+    commits = False
+    for cycle in range(12000):
+        if stall == 0 and rng.random() < 0.004:
+            stall = rng.choice([20, 60, 150, 400])
+            commits = rng.random() < 0.3
+        stall = max(stall - 1, 0)
+        if b.idle():
+            if rng.random() < 0.003:
+                b.write(regs.WATCHDOG, rng.choice([0, 1, 2, 3, 5, 0xFFFFFFFF, 0x10003]))
+                b.read(regs.WATCHDOG)
+            elif b.model.wd_tripped and rng.random() < 0.02:
+                b.read(regs.STATUS)
+                b.read(regs.WATCHDOG_TRIPS)
+                b.write(regs.IRQ_STATUS, regs.IRQ_WATCHDOG)
+                b.write(regs.CMD, rng.choice([regs.CMD_WATCHDOG_CLEAR,
+                                              regs.CMD_WATCHDOG_CLEAR | regs.CMD_COUNT_CLEAR,
+                                              0xF]))
+            elif commits and stall and rng.random() < 0.01:   # a register-fed controller
+                for i in range(b.n):
+                    b.write(regs.REF_BASE + i, rng.randrange(-2000, 2000))
+                b.write(regs.CMD, regs.CMD_REF_COMMIT)
+            elif rng.random() < 0.002:
+                b.write(regs.CMD, regs.CMD_WATCHDOG_CLEAR)    # also when nothing tripped
+        if cycle % 2500 == 0:
+            b.modulation()
+        b.tick(stream=stall == 0)
+    b.read(regs.WATCHDOG_TRIPS)
+    b.run_until_idle()
+    latch = np.array(b.trace["watchdog"])
+    trips = int(np.sum(latch[1:] & ~latch[:-1]))
+    on = np.array(b.trace["up"]) | np.array(b.trace["lo"])
+    caught_on = int(np.sum(latch[1:] & ~latch[:-1] & (on[1:] != 0)))
+    assert trips >= 5, f"only {trips} watchdog trips: the watchdog is barely tested"
+    assert caught_on >= 3, "too few trips caught the gates on"
 
 
 def build_bad_input(b, rng, p):
@@ -582,6 +632,12 @@ async def top_fault(dut):
 async def top_interrupt(dut):
     """IRQ_ENABLE / IRQ_STATUS served like firmware does; faults, ticks and counter wraps."""
     await run_bench(dut, "top_interrupt", build_interrupt)
+
+
+@cocotb.test()
+async def top_watchdog(dut):
+    """The reference watchdog: stalls, trips, clears, timeouts changed while counting."""
+    await run_bench(dut, "top_watchdog", build_watchdog, modes_seen=set())
 
 
 @cocotb.test()

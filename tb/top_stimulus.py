@@ -15,7 +15,8 @@ from vectors import ports_of
 def top_stimulus(rng, component, phases, width, cycles):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``, a
-    fault pulse and its clear, sync pulses and a reset in the middle; the settings make the
+    fault pulse and its clear, a stall of the stream (the watchdog on at times), sync pulses and
+    a reset in the middle; the settings make the
     gates switch within a few thousand clocks; MODULATION written now and then (any mode code,
     small b). Returns (inputs, expected outputs) by port, and the set of modes that were in
     force in some clock."""
@@ -34,6 +35,7 @@ def top_stimulus(rng, component, phases, width, cycles):
                       (regs.PERIOD, 1, rng.choice([90, 130, 170])),
                       (regs.DEAD, 1, 0), (regs.MIN_PULSE, 1, rng.randrange(8)),
                       (regs.ADC_OFFSET, 1, rng.randrange(100)),
+                      (regs.WATCHDOG, 1, rng.choice([0, 2, 4])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
     ops = settings()
@@ -57,7 +59,10 @@ def top_stimulus(rng, component, phases, width, cycles):
                 [(regs.MODULATION, 1, rng.randrange(8) << regs.MODULATION_MODE_SHIFT
                   | rng.choice([1, 2, 3, 15]) << regs.MODULATION_BITS_SHIFT),
                  (regs.MODULATION, 0, 0)],
+                [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
             ]))
+        if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
+            ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2])))
         if current is None and ops and gap == 0:
             current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
         gap = max(0, gap - 1)
@@ -76,7 +81,8 @@ def top_stimulus(rng, component, phases, width, cycles):
         else:
             bus = {"wb_cyc": int(busy), "wb_stb": int(busy), "wb_we": we, "wb_adr": adr,
                    "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
-        if offered is None and rng.random() < 0.3:
+        stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
+        if offered is None and not stalled and rng.random() < 0.3:
             angle += 0.05
             offered = [round(amplitude * math.cos(angle - 2 * math.pi * i / phases))
                        for i in range(phases)]

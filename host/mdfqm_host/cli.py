@@ -3,8 +3,9 @@
 Commands:
   ports                 list serial ports; mark those that answer as the demo
   info                  configuration and current settings
-  set [options]         --freq HZ --amp VDC --mode M --dead-time NS --min-pulse NS
-                        --update-rate HZ --osr N --enable/--disable --clear-fault
+  set [options]         --freq HZ --amp VDC --modulation M [--bits B] --zero-policy P
+                        --dead-time NS --min-pulse NS --update-rate HZ --osr N
+                        --watchdog UPDATES --enable/--disable --clear-fault --clear-watchdog
   counters              one snapshot of the switching counters
   monitor               live switching frequencies and status (Ctrl-C ends)
   read ADDR             raw register read (word address, or a register name)
@@ -21,7 +22,7 @@ import sys
 import time
 
 from .client import Client, NoReplyError
-from .device import MODES, DemoDevice, NotDemoError, linear_limit
+from .device import MODULATIONS, ZERO_POLICIES, DemoDevice, NotDemoError, linear_limit
 from .simdevice import SimulatedDevice
 
 __all__ = ["find_ports", "main", "open_port"]
@@ -118,9 +119,15 @@ def cmd_info(device: DemoDevice, args, out) -> None:
     print(f"  frequency  {s.freq_hz:.4f} Hz", file=out)
     print(f"  amplitude  {s.amplitude:.4f} Vdc (linear up to {linear_limit(i.phases):.3f})",
           file=out)
-    print(f"  mode       {s.mode}", file=out)
+    built_in = ", ".join(MODULATIONS[:i.modes])
+    bits = f" b = {s.bits} ({1 << s.bits} slots per update)" if s.bits else ""
+    print(f"  modulation {s.modulation}{bits}; built in: {built_in} (max b {i.max_bits})",
+          file=out)
+    print(f"  zero policy {s.zero_policy} (MDFQM)", file=out)
     print(f"  updates    {s.update_hz / 1e3:.3f} kHz, OSR {s.osr}", file=out)
     print(f"  dead time  {s.dead_ns:.0f} ns, minimum pulse {s.min_pulse_ns:.0f} ns", file=out)
+    watchdog = f"{s.watchdog} update starts" if s.watchdog else "off"
+    print(f"  watchdog   {watchdog}, {s.watchdog_trips} trips", file=out)
 
 
 def cmd_set(device: DemoDevice, args, out) -> None:
@@ -129,8 +136,17 @@ def cmd_set(device: DemoDevice, args, out) -> None:
     if args.amp is not None:
         print(f"amplitude {device.set_amplitude(args.amp):.4f} Vdc", file=out)
     if args.mode is not None:
-        device.set_mode(args.mode)
-        print(f"mode {args.mode}", file=out)
+        raise SystemExit("--mode is gone: the zero-state policy is --zero-policy "
+                         f"({'/'.join(ZERO_POLICIES)}), the modulation mode --modulation "
+                         f"({'/'.join(MODULATIONS)})")
+    if args.bits is not None and args.modulation is None:
+        raise SystemExit("--bits needs --modulation (a slot mode)")
+    if args.modulation is not None:
+        mode, bits = device.set_modulation(args.modulation, args.bits)
+        print(f"modulation {mode}" + (f" b = {bits}" if bits else ""), file=out)
+    if args.zero_policy is not None:
+        device.set_zero_policy(args.zero_policy)
+        print(f"zero policy {args.zero_policy}", file=out)
     if args.dead_time is not None:
         print(f"dead time {device.set_dead_time(args.dead_time):.0f} ns", file=out)
     if args.min_pulse is not None:
@@ -142,6 +158,12 @@ def cmd_set(device: DemoDevice, args, out) -> None:
     if args.osr is not None:
         device.set_osr(args.osr)
         print(f"OSR {args.osr}", file=out)
+    if args.watchdog is not None:
+        device.set_watchdog(args.watchdog)
+        print(f"watchdog {args.watchdog or 'off'}", file=out)
+    if args.clear_watchdog:
+        device.clear_watchdog()
+        print("watchdog cleared", file=out)
     if args.clear_fault:
         device.clear_fault()
         print("fault cleared", file=out)
@@ -195,7 +217,16 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("set", help="change settings")
     s.add_argument("--freq", type=float, help="output frequency in Hz")
     s.add_argument("--amp", type=float, help="peak phase reference in Vdc")
-    s.add_argument("--mode", choices=sorted(MODES), help="zero-state policy")
+    s.add_argument("--modulation", choices=MODULATIONS,
+                   help="modulation mode (those the bitstream has: see info)")
+    s.add_argument("--bits", type=int,
+                   help="resolution b of a slot mode (2**b slots per update; default the largest)")
+    s.add_argument("--zero-policy", choices=sorted(ZERO_POLICIES),
+                   help="MDFQM's zero-state policy")
+    s.add_argument("--mode", help=argparse.SUPPRESS)      # the old name: refused with a hint
+    s.add_argument("--watchdog", type=int, metavar="UPDATES",
+                   help="reference watchdog timeout in update starts (0: off)")
+    s.add_argument("--clear-watchdog", action="store_true")
     s.add_argument("--dead-time", type=float, help="dead time in ns")
     s.add_argument("--min-pulse", type=float, help="minimum on-time in ns")
     s.add_argument("--update-rate", type=float, help="core updates per second")

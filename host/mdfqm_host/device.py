@@ -1,4 +1,5 @@
-"""The demo device in physical units: frequency, amplitude, mode, dead time, counters.
+"""The demo device in physical units: frequency, amplitude, modulation mode and resolution,
+zero policy, dead time, watchdog, counters.
 
 The modulator is the drop-in top ``MdfqmTop`` (register map in ``docs/top.md``, constants from
 :mod:`mdfqm_spec.regmap`) at ``TOP_BASE``; the demo's own block is
@@ -11,14 +12,16 @@ import math
 from dataclasses import dataclass
 
 from mdfqm_spec import regmap as top
+from mdfqm_spec.contract import MODES as MODULATIONS
 from mdfqm_spec.regmap import ID_VALUE, INFO_TOP, TOP_BASE, demo_window
 
 from .client import Client
 
-__all__ = ["MODES", "TOP_MAP", "Counters", "DemoDevice", "DeviceInfo", "Status"]
+__all__ = ["MODULATIONS", "TOP_MAP", "ZERO_POLICIES", "Counters", "DemoDevice", "DeviceInfo",
+           "Status"]
 
-#: CLI mode name -> CTRL.ZERO_POLICY (the core's zero-state policy)
-MODES = {"all-off": 0, "fewest-transitions": 1}
+#: CLI zero-policy name -> CTRL.ZERO_POLICY (MDFQM's choice between the two zero states)
+ZERO_POLICIES = {"all-off": 0, "fewest-transitions": 1}
 
 
 @dataclass(frozen=True)
@@ -38,6 +41,11 @@ class ModulatorMap:
     time_max: int               # largest DEAD / MIN_PULSE value
     ctrl_enable: int
     ctrl_zero_policy: int
+    info: int
+    modulation: int
+    watchdog: int
+    watchdog_trips: int
+    watchdog_clear: tuple       # (address, value) of the write that clears the watchdog latch
 
 
 TOP_MAP = ModulatorMap(
@@ -47,8 +55,12 @@ TOP_MAP = ModulatorMap(
     fault_clear=(TOP_BASE + top.CMD, top.CMD_FAULT_CLEAR),
     status_bits={"fault": top.STATUS_FAULT, "fault_input": top.STATUS_FAULT_INPUT,
                  "active": top.STATUS_ACTIVE, "ref_pending": top.STATUS_REF_PENDING,
-                 "saturated": top.STATUS_SATURATED, "period_clamped": top.STATUS_PERIOD_CLAMPED},
-    time_max=0xFFFF, ctrl_enable=top.CTRL_ENABLE, ctrl_zero_policy=top.CTRL_ZERO_POLICY)
+                 "saturated": top.STATUS_SATURATED, "period_clamped": top.STATUS_PERIOD_CLAMPED,
+                 "mode_clamped": top.STATUS_MODE_CLAMPED, "watchdog": top.STATUS_WATCHDOG},
+    time_max=0xFFFF, ctrl_enable=top.CTRL_ENABLE, ctrl_zero_policy=top.CTRL_ZERO_POLICY,
+    info=TOP_BASE + top.INFO, modulation=TOP_BASE + top.MODULATION,
+    watchdog=TOP_BASE + top.WATCHDOG, watchdog_trips=TOP_BASE + top.WATCHDOG_TRIPS,
+    watchdog_clear=(TOP_BASE + top.CMD, top.CMD_WATCHDOG_CLEAR))
 
 
 @dataclass(frozen=True)
@@ -58,6 +70,8 @@ class DeviceInfo:
     width: int
     acc_bits: int
     top: bool
+    max_bits: int               # largest resolution b of the slot modes (0: MDFQM-only top)
+    modes: int                  # modulation modes built in: MODULATIONS[:modes]
 
     @property
     def full(self) -> int:
@@ -71,11 +85,15 @@ class Status:
     flags: dict
     freq_hz: float
     amplitude: float
-    mode: str
+    zero_policy: str
+    modulation: str             # the mode in force (MODULATION read back)
+    bits: int                   # b in force (0 in MDFQM)
     update_hz: float
     osr: int
     dead_ns: float
     min_pulse_ns: float
+    watchdog: int               # timeout in update starts (0: off)
+    watchdog_trips: int
 
 
 @dataclass(frozen=True)
@@ -108,11 +126,15 @@ class DemoDevice:
         info = client.read(demo_window(3, 16, 32).addr("INFO"))
         phases, width, acc_bits = info & 0xFF, (info >> 8) & 0xFF, (info >> 16) & 0xFF
         self.demo = demo_window(phases, width, acc_bits)
-        self.info = DeviceInfo(clk_hz=client.read(self.demo.addr("CLK_HZ")), phases=phases,
-                               width=width, acc_bits=acc_bits, top=bool(info & INFO_TOP))
-        if not self.info.top:
+        if not info & INFO_TOP:
             raise NotDemoError("INFO[24] is 0: not a bitstream with the drop-in top")
         self.map = TOP_MAP
+        top_info = client.read(self.map.info)
+        self.info = DeviceInfo(
+            clk_hz=client.read(self.demo.addr("CLK_HZ")), phases=phases, width=width,
+            acc_bits=acc_bits, top=True,
+            max_bits=(top_info & top.INFO_MAX_BITS) >> top.INFO_MAX_BITS_SHIFT,
+            modes=(top_info & top.INFO_MODES) >> top.INFO_MODES_SHIFT)
 
     # ---------------------------------------------------------------- conversions
     def _clocks(self, ns: float, name: str, maximum: int) -> int:
@@ -143,13 +165,44 @@ class DemoDevice:
         self.client.write(self.demo.addr("NCO_AMP"), code)
         return code / self.info.full
 
-    def set_mode(self, mode: str) -> None:
-        if mode not in MODES:
-            raise ValueError(f"mode must be one of {sorted(MODES)}, not {mode!r}")
+    def set_zero_policy(self, policy: str) -> None:
+        """MDFQM's zero-state policy (``CTRL.ZERO_POLICY``): all-off or fewest-transitions."""
+        if policy not in ZERO_POLICIES:
+            raise ValueError(f"zero policy must be one of {sorted(ZERO_POLICIES)}, "
+                             f"not {policy!r}")
         ctrl = self.client.read(self.map.ctrl)
         ctrl = (ctrl & ~self.map.ctrl_zero_policy) | (
-            self.map.ctrl_zero_policy if MODES[mode] else 0)
+            self.map.ctrl_zero_policy if ZERO_POLICIES[policy] else 0)
         self.client.write(self.map.ctrl, ctrl)
+
+    def set_modulation(self, mode: str, bits: int | None = None) -> tuple[str, int]:
+        """Request a modulation mode (``MODULATIONS``) and resolution b (default: the largest
+        built in); refused here when this bitstream does not have it (the gateware would clamp
+        it and flag STATUS.MODE_CLAMPED). Returns (mode, b) requested; the next update start
+        takes them."""
+        built_in = MODULATIONS[:self.info.modes]
+        if mode not in built_in:
+            raise ValueError(f"modulation must be one of {list(built_in)} on this bitstream "
+                             f"(max_bits {self.info.max_bits}), not {mode!r}")
+        if mode == "mdfqm":
+            bits = 0
+        elif bits is None:
+            bits = self.info.max_bits
+        elif not 1 <= bits <= self.info.max_bits:
+            raise ValueError(f"bits must be in [1, {self.info.max_bits}], not {bits}")
+        self.client.write(self.map.modulation,
+                          MODULATIONS.index(mode) << top.MODULATION_MODE_SHIFT
+                          | bits << top.MODULATION_BITS_SHIFT)
+        return mode, bits
+
+    def set_watchdog(self, updates: int) -> None:
+        """Reference watchdog timeout in update starts (0: off)."""
+        if not 0 <= updates <= 0xFFFF:
+            raise ValueError(f"watchdog must be in [0, 65535] update starts, not {updates}")
+        self.client.write(self.map.watchdog, updates)
+
+    def clear_watchdog(self) -> None:
+        self.client.write(*self.map.watchdog_clear)
 
     def set_dead_time(self, ns: float) -> float:
         """Dead time in ns (the gateware raises it to its floor); returns what is in force."""
@@ -190,17 +243,23 @@ class DemoDevice:
         ctrl = self.client.read(m.ctrl)
         status = self.client.read(m.status)
         period = self.client.read(m.period)
+        modulation = self.client.read(m.modulation)
+        code = (modulation & top.MODULATION_MODE) >> top.MODULATION_MODE_SHIFT
         return Status(
             enabled=bool(ctrl & m.ctrl_enable),
             flags={name: bool(status & bit) for name, bit in m.status_bits.items()},
             freq_hz=self.client.read(self.demo.addr("NCO_FREQ")) * info.clk_hz
             / (1 << info.acc_bits),
             amplitude=self.client.read(self.demo.addr("NCO_AMP")) / info.full,
-            mode="fewest-transitions" if ctrl & m.ctrl_zero_policy else "all-off",
+            zero_policy="fewest-transitions" if ctrl & m.ctrl_zero_policy else "all-off",
+            modulation=MODULATIONS[code] if code < len(MODULATIONS) else f"code {code}",
+            bits=(modulation & top.MODULATION_BITS) >> top.MODULATION_BITS_SHIFT,
             update_hz=info.clk_hz / max(period, 1),
             osr=max(1, self.client.read(m.osr)),
             dead_ns=self._ns(max(self.client.read(m.dead), self.client.read(m.dead_min))),
             min_pulse_ns=self._ns(self.client.read(m.min_pulse)),
+            watchdog=self.client.read(m.watchdog),
+            watchdog_trips=self.client.read(m.watchdog_trips),
         )
 
     def counters(self) -> Counters:

@@ -16,7 +16,8 @@ from collections import deque
 
 from mdfqm_spec import bridge as proto
 from mdfqm_spec import regmap as top
-from mdfqm_spec.regmap import ID_VALUE, INFO_TOP, TOP_BASE, demo_window
+from mdfqm_spec.contract import latch_mode, loop_latency
+from mdfqm_spec.regmap import ID_VALUE, INFO_TOP, TOP_BASE, demo_window, info_word
 
 from .device import TOP_MAP
 
@@ -32,6 +33,8 @@ class SimulatedDevice:
     Parameters
     ----------
     clk_hz, phases, width, acc_bits : the device's configuration (INFO, CLK_HZ)
+    max_bits : the top's (its INFO; 0 the MDFQM-only top). MODULATION reads back the clamped
+        request at once (the gateware takes it at the next update start).
     clock : callable
         Seconds, monotonic (a fake clock in tests).
     frame_timeout : float
@@ -39,7 +42,7 @@ class SimulatedDevice:
     """
 
     def __init__(self, clk_hz=18_000_000, phases=3, width=16, acc_bits=32,
-                 clock=time.monotonic, frame_timeout=0.003):
+                 clock=time.monotonic, frame_timeout=0.003, max_bits=8):
         self.clk_hz, self.phases, self.width, self.acc_bits = clk_hz, phases, width, acc_bits
         self.clock, self.frame_timeout = clock, frame_timeout
         self.map = TOP_MAP
@@ -50,8 +53,13 @@ class SimulatedDevice:
         self.injected = deque()
         self.log = []                         # (cmd, addr, data, status) of executed requests
         m = self.map
-        self.regs = {m.ctrl: 0, m.period: 8, m.osr: 1, m.dead: 64, m.min_pulse: 0,
-                     m.dead_min: 64, TOP_BASE + top.ID: top.ID_VALUE}
+        latency = loop_latency(phases, "largest_duty")
+        self.max_bits = max_bits
+        self.regs = {m.ctrl: 0, m.period: latency, m.osr: 1, m.dead: 64, m.min_pulse: 0,
+                     m.dead_min: 64, TOP_BASE + top.ID: top.ID_VALUE, m.modulation: 0,
+                     m.watchdog: 0, m.watchdog_trips: 0,
+                     m.info: info_word(phases, width, "largest_duty", False, False, latency,
+                                       max_bits)}
         self.fault = False
         self.demo_regs = {"NCO_FREQ": round(50 * (1 << acc_bits) / clk_hz),
                           "NCO_AMP": 1 << (width - 3)}
@@ -169,6 +177,14 @@ class SimulatedDevice:
         if write:
             if addr == m.fault_clear[0] and data & m.fault_clear[1]:
                 self.fault = False
+            elif addr == m.modulation:
+                mode, bits, _ = latch_mode(
+                    (data & top.MODULATION_MODE) >> top.MODULATION_MODE_SHIFT,
+                    (data & top.MODULATION_BITS) >> top.MODULATION_BITS_SHIFT, self.max_bits)
+                self.regs[addr] = (mode << top.MODULATION_MODE_SHIFT
+                                   | bits << top.MODULATION_BITS_SHIFT)
+            elif addr == m.watchdog:
+                self.regs[addr] = min(data, 0xFFFF)
             elif addr in (m.ctrl, m.period, m.osr, m.dead, m.min_pulse):
                 limit = {m.ctrl: 3, m.period: 0xFFFF, m.osr: 0xFF}.get(addr, m.time_max)
                 value = min(data, limit) if addr != m.ctrl else data & 3

@@ -56,8 +56,10 @@ The N-leg driver (:class:`GateDriverModel`)
   update boundaries, the generator's also at the slot boundaries of a slot mode, and the driver
   applies its rules to every edge alike); the enable is taken at update boundaries only:
   ``en = enable if update else active``; ``cmd_lat <= cmd``; ``active <= en and not
-  fault_active``. So a fault also clears ``active``: after a clear, outputs resume only at the
-  next update boundary with ``enable`` high.
+  fault_active and not stop``. So a fault also clears ``active``: after a clear, outputs resume
+  only at the next update boundary with ``enable`` high.
+- ``stop`` (the top's watchdog latch, a synchronous input) acts like ``fault_active`` in the
+  cycle it is high: ``drive`` low, every output off in the next cycle, ``active`` cleared.
 - Short edges (``short_edge``, a registered strobe per leg, reset 0): high in the cycle after
   one in which leg ``i``'s command changed (``cmd[i] != cmd_lat[i]``) while the leg was driven in
   this cycle and the last (``drive and active``) and had not yet followed the last change: the
@@ -65,8 +67,8 @@ The N-leg driver (:class:`GateDriverModel`)
   (``cnt + 1 < min_pulse_seen``). Such an edge ends a commanded pulse shorter than the dead time
   plus the minimum pulse, which the rules above swallow (the dead time) or stretch (the minimum
   pulse): safe, but not what was commanded, so it is reported, never silent.
-- Each leg: ``drive = en and not fault_active``. A synchronised fault visible in cycle ``t``
-  turns every output off in cycle ``t + 1``.
+- Each leg: ``drive = en and not fault_active and not stop``. A synchronised fault (or
+  ``stop``) visible in cycle ``t`` turns every output off in cycle ``t + 1``.
 - Pins: ``upper = up ^ upper_active_low``, ``lower = lo ^ lower_active_low`` (the inversion is
   applied last, to registers).
 
@@ -86,6 +88,7 @@ from mdfqm_spec.validate import validate_bool
 from .inputs import check_bit, check_uint, stimulus_columns
 
 __all__ = [
+    "DRIVER_INPUTS",
     "DRIVER_OUTPUTS",
     "GateDriverModel",
     "LegModel",
@@ -93,6 +96,9 @@ __all__ = [
     "check_gate_safety",
 ]
 
+#: inputs of :meth:`GateDriverModel.step` (and the gateware's ports, ``rst`` its reset)
+DRIVER_INPUTS = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear",
+                 "stop")
 #: per-cycle outputs of :meth:`GateDriverModel.step`
 DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active", "short_edge")
 
@@ -234,7 +240,8 @@ class GateDriverModel:
 
     # ------------------------------------------------------------------ one clock
     def step(
-        self, rst=0, h=0, update=0, enable=0, dead=0, min_pulse=0, fault_in=0, fault_clear=0
+        self, rst=0, h=0, update=0, enable=0, dead=0, min_pulse=0, fault_in=0, fault_clear=0,
+        stop=0,
     ) -> dict:
         rst = check_bit(rst, "rst")
         h = check_uint(h, self.phases, "h")
@@ -244,12 +251,13 @@ class GateDriverModel:
         min_pulse = check_uint(min_pulse, self.time_width, "min_pulse")
         fault_in = check_bit(fault_in, "fault_in")
         fault_clear = check_bit(fault_clear, "fault_clear")
+        stop = check_bit(stop, "stop")
         out = self.outputs()
 
         fault_active = self.fault_input or self.fault
         cmd = h
         en = enable if update else self.active
-        drive = int(en and not fault_active)
+        drive = int(en and not fault_active and not stop)
         short = self.short_edges(cmd, drive)
         for i, leg in enumerate(self.legs):
             leg.step(rst, (cmd >> i) & 1, drive, self.dead_seen, self.min_pulse_seen)
@@ -269,8 +277,7 @@ class GateDriverModel:
 
     def simulate(self, stim: Mapping[str, object]) -> dict:
         """Run ``C`` cycles; ``stim`` maps :meth:`step`'s input names to arrays or scalars."""
-        names = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear")
-        return _simulate(self.step, names, DRIVER_OUTPUTS, stim)
+        return _simulate(self.step, DRIVER_INPUTS, DRIVER_OUTPUTS, stim)
 
 
 def _simulate(step, names, outputs, stim) -> dict:

@@ -54,11 +54,12 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   a commit while one is pending replaces the snapshot (a commit wins over the clear).
 - Driver inputs: the generator's ``h`` (followed every clock) and ``update``,
   ``enable = CTRL.ENABLE``, ``dead = DEAD``, ``min_pulse = MIN_PULSE``, ``fault_in`` (port),
-  ``fault_clear = CMD.FAULT_CLEAR`` strobe.
+  ``fault_clear = CMD.FAULT_CLEAR`` strobe, ``stop`` = the watchdog latch.
 - Switching counters: ``EVENTS[i] += event[i]``, ``EVENTS_TOTAL += popcount(event)`` each
   cycle, ``event`` being the driver's turn-on strobes (one per turn-on of either switch of a
   leg: in complementary switching, one per change of the leg's state). 32 bits, wrapping.
-  ``CMD.COUNT_CLEAR`` zeroes them all (the strobes of that cycle are not counted).
+  ``CMD.COUNT_CLEAR`` zeroes them all (the strobes of that cycle are not counted), and
+  ``WATCHDOG_TRIPS``.
 - Interrupt: ``IRQ_STATUS`` bit ``k`` is set in the clock after its event and stays until a
   write of 1 to it (an event in the same clock as the clear wins): ``FAULT`` when the fault
   latch is about to set (``fault_input & ~fault``), ``COUNTER_WRAP`` when ``EVENTS_TOTAL``
@@ -66,9 +67,21 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   total since the last clear; not in a ``COUNT_CLEAR`` clock), ``SAMPLE`` in a sampling tick
   (the core's ``sample``: the update that takes the next reference starts, so firmware can
   write the following one), ``SHORT_EDGE`` when the driver's ``short_edge`` is not zero (a
-  leg's command changed before the leg had followed the last change).
+  leg's command changed before the leg had followed the last change), ``WATCHDOG`` in the cycle
+  after a watchdog trip.
   ``irq <= |(IRQ_STATUS & IRQ_ENABLE)`` (registered from both
   registers: it follows them one clock later; reset 0).
+- Reference watchdog: a reference *arrives* in a cycle with a beat taken on the port
+  (``ref_valid & ref_ready``) or a ``CMD.REF_COMMIT`` write. ``quiet`` counts update starts
+  since the last arrival (16 bits, saturating): ``quiet <= 0`` if an arrival, ``WATCHDOG == 0``
+  (off), the latch, or a trip in this cycle, else ``quiet + 1`` in a cycle with ``start``. A
+  *trip* is a cycle with ``start``, no arrival, ``WATCHDOG != 0``, the latch clear and
+  ``quiet >= WATCHDOG``: the latch (``STATUS.WATCHDOG``) sets, ``WATCHDOG_TRIPS`` counts it
+  (saturating at 65535; ``CMD.COUNT_CLEAR`` zeroes it, a trip in the same cycle counts 1), and
+  ``IRQ_STATUS.WATCHDOG`` is set. The latch is the driver's ``stop``: every gate off in the cycle
+  after the latch is set (two after the tripping start ``s``: ``s + 2``), and the taken enable
+  cleared; ``CMD.WATCHDOG_CLEAR`` clears it (gates resume at the next update boundary with
+  ``CTRL.ENABLE``), after which the count starts again from 0.
 - ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= min(elapsed + 1, 2**17 - 1)``;
   ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
   ``s`` the update start, and there is none when ``ADC_OFFSET >= P`` (the update period).
@@ -101,6 +114,7 @@ from mdfqm_spec.regmap import (
     CMD_COUNT_CLEAR,
     CMD_FAULT_CLEAR,
     CMD_REF_COMMIT,
+    CMD_WATCHDOG_CLEAR,
     COUNTER_WIDTH,
     CTRL,
     CTRL_ENABLE,
@@ -122,6 +136,7 @@ from mdfqm_spec.regmap import (
     IRQ_SAMPLE,
     IRQ_SHORT_EDGE,
     IRQ_STATUS,
+    IRQ_WATCHDOG,
     MIN_PULSE,
     MODULATION,
     MODULATION_BITS_SHIFT,
@@ -137,6 +152,9 @@ from mdfqm_spec.regmap import (
     STATUS_PERIOD_CLAMPED,
     STATUS_REF_PENDING,
     STATUS_SATURATED,
+    STATUS_WATCHDOG,
+    WATCHDOG,
+    WATCHDOG_TRIPS,
     default_max_bits,
     info_word,
     validate_top_phases,
@@ -295,6 +313,10 @@ class TopModel:
         self.mode_request = 0
         self.bits_request = 0
         self.core_mode_clamped = 0      # the MDFQM-only top's flag (the generator has its own)
+        self.wd_timeout = 0
+        self.wd_quiet = 0               # update starts since the last reference arrival
+        self.wd_tripped = 0
+        self.wd_trips = 0
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -315,7 +337,8 @@ class TopModel:
                     | drv_out["active"] * STATUS_ACTIVE | self.ref_pending * STATUS_REF_PENDING
                     | core_out["saturated"] * STATUS_SATURATED
                     | core_out["period_clamped"] * STATUS_PERIOD_CLAMPED
-                    | self._mode_clamped(core_out) * STATUS_MODE_CLAMPED)
+                    | self._mode_clamped(core_out) * STATUS_MODE_CLAMPED
+                    | self.wd_tripped * STATUS_WATCHDOG)
         if address == PERIOD:
             return self.period
         if address == OSR:
@@ -338,6 +361,10 @@ class TopModel:
             mode, bits = ((core_out["mode_in_force"], core_out["bits_in_force"])
                           if self.max_bits else (0, 0))
             return mode << MODULATION_MODE_SHIFT | bits << MODULATION_BITS_SHIFT
+        if address == WATCHDOG:
+            return self.wd_timeout
+        if address == WATCHDOG_TRIPS:
+            return self.wd_trips
         if REF_BASE <= address < REF_BASE + n:
             return self.ref[address - REF_BASE] & 0xFFFFFFFF
         if EVENTS_BASE <= address < EVENTS_BASE + n:
@@ -363,6 +390,8 @@ class TopModel:
             self.irq_enable = value & IRQ_MASK
         elif address == IRQ_STATUS:
             self.irq_status &= ~value
+        elif address == WATCHDOG:
+            self.wd_timeout = min(value, 0xFFFF)
         elif address == MODULATION:
             self.mode_request = (value >> MODULATION_MODE_SHIFT) & ((1 << MODE_WIDTH) - 1)
             self.bits_request = (value >> MODULATION_BITS_SHIFT) & ((1 << BITS_WIDTH) - 1)
@@ -406,7 +435,7 @@ class TopModel:
         drv_out = self.driver.step(
             rst=rst, h=core_out["h"], update=core_out["update"],
             enable=int(bool(self.ctrl & CTRL_ENABLE)), dead=self.dead, min_pulse=self.min_pulse,
-            fault_in=fault_in, fault_clear=int(bool(cmd & CMD_FAULT_CLEAR)))
+            fault_in=fault_in, fault_clear=int(bool(cmd & CMD_FAULT_CLEAR)), stop=self.wd_tripped)
         out = {
             **self.front.outputs(),
             "ref_ready": port_ready,
@@ -422,6 +451,20 @@ class TopModel:
             return out
         value = self.read(read, core_out, drv_out, up, lo) if read is not None else 0
 
+        # the watchdog (a reference arrives as a beat taken on the port or as a commit)
+        arrival = bool(ref_valid and port_ready) or bool(cmd & CMD_REF_COMMIT)
+        trip = (self.wd_timeout != 0 and not self.wd_tripped and core_out["start"]
+                and not arrival and self.wd_quiet >= self.wd_timeout)
+        if arrival or self.wd_timeout == 0 or self.wd_tripped or trip:
+            self.wd_quiet = 0
+        elif core_out["start"]:
+            self.wd_quiet = min(self.wd_quiet + 1, 0xFFFF)
+        if trip:
+            self.wd_tripped = 1
+        elif cmd & CMD_WATCHDOG_CLEAR:
+            self.wd_tripped = 0
+        kept = 0 if cmd & CMD_COUNT_CLEAR else self.wd_trips
+        self.wd_trips = min(kept + trip, 0xFFFF)
         # reference arbitration (a commit wins over the clear of an accepted beat)
         if cmd & CMD_REF_COMMIT:
             self.snapshot, self.ref_pending = list(self.ref), 1
@@ -440,7 +483,8 @@ class TopModel:
         irq_events = ((IRQ_FAULT if drv_out["fault_input"] and not drv_out["fault"] else 0)
                       | (IRQ_COUNTER_WRAP if wrapped else 0)
                       | (IRQ_SAMPLE if core_out["sample"] else 0)
-                      | (IRQ_SHORT_EDGE if drv_out["short_edge"] else 0))
+                      | (IRQ_SHORT_EDGE if drv_out["short_edge"] else 0)
+                      | (IRQ_WATCHDOG if trip else 0))
         if core_out["start"]:
             self.core_mode_clamped = int(latch_mode(self.mode_request, self.bits_request, 0)[2])
         # ADC trigger

@@ -465,3 +465,58 @@ def test_slot_mode_switches_inside_an_update_and_the_driver_follows():
     inside = [t for t in changes if not update[max(0, t - 4):t + 1].any()]
     assert len(inside) >= 4, "no gate edge inside an update"
     check_gate_safety(up, lo, 3, dead=np.full(len(up), 2))
+
+
+def test_watchdog_trips_at_the_timeout_plus_first_quiet_start_and_stops_the_gates():
+    """Hand-derived from docs/top.md, "Reference watchdog": WATCHDOG = 2 written, no reference
+    afterwards: the update starts s1, s2 pass, s3 trips; STATUS.WATCHDOG from s3 + 1, every
+    gate off from s3 + 2 until CMD.WATCHDOG_CLEAR; a reference arriving meanwhile does not clear
+    it; after the clear the gates come back; a trip counts once."""
+    m = TopModel(3, 16, dead_min=2, max_bits=0)
+    bus = Master(m)
+    bus.write(regs.PERIOD, 20)
+    bus.write(regs.CTRL, regs.CTRL_ENABLE)
+    bus.write(regs.IRQ_ENABLE, regs.IRQ_WATCHDOG)
+    bus.run(100, ref_valid=1, ref=[3000, -1000, -2000])      # the core switches
+    assert m.driver.up | m.driver.lo
+    bus.write(regs.WATCHDOG, 2)
+    written = len(bus.log)                  # the write's effect is visible from here
+    assert bus.read(regs.WATCHDOG) == 2
+    bus.run(90)
+    starts = [t for t, out in enumerate(bus.log) if out["sync_out"] and t >= written]
+    s3 = starts[2]
+    on = [u | lo for u, lo in zip(bus.up, bus.lo, strict=True)]
+    assert any(on[starts[0]:s3 + 2]), "no gate on before the trip: the test is vacuous"
+    assert not any(on[s3 + 2:])
+    assert bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
+    assert bus.read(regs.WATCHDOG_TRIPS) == 1
+    assert bus.read(regs.IRQ_STATUS) & regs.IRQ_WATCHDOG
+    assert bus.log[-1]["irq"] == 1
+    bus.run(30, ref_valid=1, ref=[3000, -1000, -2000])        # a reference: still tripped
+    assert bus.read(regs.STATUS) & regs.STATUS_WATCHDOG and not any(on[s3 + 2:])
+    bus.write(regs.CMD, regs.CMD_WATCHDOG_CLEAR)
+    cleared = len(bus.log)
+    bus.run(40, ref_valid=1, ref=[3000, -1000, -2000])
+    assert not bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
+    on = [u | lo for u, lo in zip(bus.up, bus.lo, strict=True)]
+    assert any(on[cleared:]) and not any(on[s3 + 2:cleared])
+    assert bus.read(regs.WATCHDOG_TRIPS) == 1
+    bus.write(regs.CMD, regs.CMD_COUNT_CLEAR)
+    assert bus.read(regs.WATCHDOG_TRIPS) == 0
+
+
+def test_watchdog_off_and_fed_never_trips():
+    """WATCHDOG 0 (the reset value) never trips, however long without a reference; a reference
+    in every update keeps WATCHDOG = 1 from tripping; a write above 65535 stores 65535."""
+    m = TopModel(3, 16, dead_min=2, max_bits=0)
+    bus = Master(m)
+    bus.write(regs.PERIOD, 12)
+    bus.write(regs.CTRL, regs.CTRL_ENABLE)
+    bus.run(3000)
+    assert not bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
+    bus.write(regs.WATCHDOG, 1)
+    bus.run(3000, ref_valid=1, ref=[2000, -1000, -1000])     # a beat offered in every clock
+    assert not bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
+    assert bus.read(regs.WATCHDOG_TRIPS) == 0
+    bus.write(regs.WATCHDOG, 0x12345678)
+    assert bus.read(regs.WATCHDOG) == 0xFFFF

@@ -11,7 +11,7 @@ is unchanged):
   the clamped dead time of the last on cycle and of the deciding cycle; never below the floor
   ``dead_min`` fixed at elaboration);
 - a synchronised fault turns every output off on the next clock, and stays latched until a
-  clear while the input is inactive;
+  clear while the input is inactive; so does ``stop`` (the top's watchdog latch) while high;
 - reset gives all off until an enable is taken at an update boundary.
 
 Polarity inversion is applied last, to registered signals.
@@ -221,7 +221,8 @@ class GateDriver(wiring.Component):
     update, under the same rules); ``enable`` is taken in cycles with ``update`` high; a
     synchronised fault turns every output off on the next clock, latches, clears the taken
     enable, and is cleared by ``fault_clear`` only while the synchronised input is inactive;
-    outputs then resume at the next update boundary with ``enable`` high.
+    outputs then resume at the next update boundary with ``enable`` high. ``stop`` acts like
+    the fault latch without latching anything itself.
 
     Ports
     -----
@@ -240,6 +241,10 @@ class GateDriver(wiring.Component):
         two-flop synchroniser (not reset). A pulse must span a rising clock edge to be seen.
     fault_clear : In(1)
         Clears the fault latch in a cycle where the synchronised input is low.
+    stop : In(1)
+        Synchronous stop (the top's watchdog latch, registered there): while high, every output
+        turns off on the next clock and the taken enable is cleared, as on a fault. Read in
+        every cycle.
     upper, lower : Out(phases)
         Gate pins, registered, after the polarity of each side (``*_active_low``). Reset: every
         switch off (pin level 1 for an active-low side).
@@ -287,6 +292,7 @@ class GateDriver(wiring.Component):
             "min_pulse": In(time_width),
             "fault_in": In(1),
             "fault_clear": In(1),
+            "stop": In(1),
             "upper": Out(phases),
             "lower": Out(phases),
             "event": Out(phases),
@@ -318,7 +324,7 @@ class GateDriver(wiring.Component):
         drive = Signal()
         m.d.comb += [
             cmd.eq(self.h),
-            drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active),
+            drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop),
         ]
         m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
 
@@ -355,11 +361,13 @@ class GateDriver(wiring.Component):
 
     def _properties(self, m, up, lo):
         input_prev = Signal(reset_less=True)
+        stop_prev = Signal(reset_less=True)
         fault_prev = Signal(reset_less=True)
         clear_prev = Signal(reset_less=True)
         rst_prev = Signal(reset_less=True)
         m.d.sync += [
             input_prev.eq(self.fault_input),
+            stop_prev.eq(self.stop),
             fault_prev.eq(self.fault),
             clear_prev.eq(self.fault_clear),
             rst_prev.eq(ResetSignal()),
@@ -367,6 +375,7 @@ class GateDriver(wiring.Component):
         all_off = (up == 0) & (lo == 0)
         m.d.comb += [
             Assert(~input_prev | all_off, "gates on one clock after the synchronised fault"),
+            Assert(~stop_prev | all_off, "gates on one clock after stop"),
             Assert(~(self.fault & fault_prev) | all_off, "gates on while the fault is latched"),
             Assert(~input_prev | rst_prev | self.fault, "synchronised fault not latched"),
             Assert(~fault_prev | rst_prev | self.fault | (clear_prev & ~input_prev),
@@ -375,4 +384,5 @@ class GateDriver(wiring.Component):
             Assert((up & lo) == 0, "both switches of a leg on"),
             Cover(fault_prev & ~self.fault),
             Cover(self.fault_input & (up != 0)),
+            Cover(self.stop & (up != 0)),
         ]

@@ -1,6 +1,6 @@
 """The drop-in top: the gating-signal generator (MDFQM, SVPWM, DPWM, b-bit; or the MDFQM core
 alone, ``max_bits=0``) + gate driver + register file behind a Wishbone-classic or an AXI4-Lite
-front + switching counters + ADC trigger. Every bit on every clock follows
+front + switching counters + ADC trigger + reference watchdog. Every bit on every clock follows
 :class:`mdfqm_model.top.TopModel`; the register map (addresses, bits, reset values, clamps) is
 imported from :mod:`mdfqm_spec.regmap` and documented in ``docs/top.md``.
 """
@@ -44,7 +44,8 @@ class MdfqmTop(wiring.Component):
     """An N-phase MDFQM / SVPWM / DPWM modulator with a safe gate driver, for a soft CPU or an
     FOC block. The modulation mode and the resolution b are runtime registers (``MODULATION``,
     taken at update starts); the gate driver applies dead time, minimum pulse, fault and the
-    counters to every edge, at update and at slot boundaries alike.
+    counters to every edge, at update and at slot boundaries alike. A reference watchdog
+    (``WATCHDOG``, off after reset) turns the gates off when the references stop.
 
     Between the FOC loop (a reference per phase) and the gate-driver chip (an upper and a lower
     gate per leg). Runtime settings live in a register file behind a Wishbone-classic or an
@@ -195,15 +196,18 @@ class MdfqmTop(wiring.Component):
         irq_status = Signal(irq_bits)
         mode_request = Signal(MODE_WIDTH)
         bits_request = Signal(BITS_WIDTH)
+        wd_timeout = Signal(16)
+        wd_trips = Signal(16)
         adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
         adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
         # ---------------------------------------------------------------- register port
-        cmd = Signal(3)
-        m.d.comb += cmd.eq(Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:3], 0))
+        cmd = Signal(4)
+        m.d.comb += cmd.eq(Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:4], 0))
         ref_commit = cmd[0]
         fault_clear = cmd[1]
         count_clear = cmd[2]
+        watchdog_clear = cmd[3]
 
         word = port.w_data
         code = word.as_signed()
@@ -225,6 +229,8 @@ class MdfqmTop(wiring.Component):
             m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF))
         with m.If(written(regmap.IRQ_ENABLE)):
             m.d.sync += irq_enable.eq(word[:irq_bits])
+        with m.If(written(regmap.WATCHDOG)):
+            m.d.sync += wd_timeout.eq(_saturate(word, 0xFFFF))
         with m.If(written(regmap.MODULATION)):
             m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
@@ -235,9 +241,12 @@ class MdfqmTop(wiring.Component):
 
         mode_clamped, mode_in_force, bits_in_force = self._modulation(
             m, core, mode_request, bits_request)
+        arrival = (self.ref.valid & self.ref.ready) | ref_commit
+        wd_tripped, wd_trip, wd_quiet = self._watchdog(m, core.start, arrival, wd_timeout,
+                                                       wd_trips, watchdog_clear, count_clear)
         rd = Signal(32)
         status = Cat(driver.fault, driver.fault_input, driver.active, ref_pending,
-                     core.saturated, core.period_clamped, mode_clamped)
+                     core.saturated, core.period_clamped, mode_clamped, wd_tripped)
         info = info_word(n, self.width, self.rule, self.upper_active_low,
                          self.lower_active_low, self.latency, self.max_bits)
         with m.Switch(port.r_adr):
@@ -269,6 +278,10 @@ class MdfqmTop(wiring.Component):
                 m.d.comb += rd.eq(irq_enable)
             with m.Case(regmap.IRQ_STATUS):
                 m.d.comb += rd.eq(irq_status)
+            with m.Case(regmap.WATCHDOG):
+                m.d.comb += rd.eq(wd_timeout)
+            with m.Case(regmap.WATCHDOG_TRIPS):
+                m.d.comb += rd.eq(wd_trips)
             with m.Case(regmap.MODULATION):
                 m.d.comb += rd.eq((mode_in_force << regmap.MODULATION_MODE_SHIFT)
                                   | (bits_in_force << regmap.MODULATION_BITS_SHIFT))
@@ -306,6 +319,7 @@ class MdfqmTop(wiring.Component):
             driver.min_pulse.eq(min_pulse),
             driver.fault_in.eq(self.fault_in),
             driver.fault_clear.eq(fault_clear),
+            driver.stop.eq(wd_tripped),
             self.upper.eq(driver.upper),
             self.lower.eq(driver.lower),
             self.fault.eq(driver.fault),
@@ -325,7 +339,8 @@ class MdfqmTop(wiring.Component):
         sources = {regmap.IRQ_FAULT: driver.fault_input & ~driver.fault,
                    regmap.IRQ_COUNTER_WRAP: total_next[-1] & ~count_clear,
                    regmap.IRQ_SAMPLE: core.sample,
-                   regmap.IRQ_SHORT_EDGE: driver.short_edge.any()}
+                   regmap.IRQ_SHORT_EDGE: driver.short_edge.any(),
+                   regmap.IRQ_WATCHDOG: wd_trip}
         irq_events = Cat(*(sources[1 << bit] for bit in range(irq_bits)))
         cleared = Mux(written(regmap.IRQ_STATUS), word[:irq_bits], 0)
         status_next = (irq_status & ~cleared) | irq_events
@@ -344,6 +359,8 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver)
+            self._watchdog_properties(m, core.start, arrival, wd_timeout, wd_tripped, wd_quiet,
+                                      watchdog_clear, driver)
             if self.max_bits:
                 self._mode_covers(m, core, driver)
             irq_was = Signal(reset_less=True)       # IRQ_STATUS & IRQ_ENABLE, a clock ago
@@ -365,6 +382,56 @@ class MdfqmTop(wiring.Component):
         with m.If(core.start):
             m.d.sync += mode_clamped.eq(mode_request != 0)
         return mode_clamped, 0, 0
+
+    def _watchdog(self, m, start, arrival, timeout, trips, clear, count_clear):
+        """The reference watchdog: ``(latch, trip strobe, quiet)``. ``quiet`` counts the update
+        starts since the last reference arrival (held at 0 while off or tripped); the start that
+        finds ``quiet >= TIMEOUT`` without an arrival in its clock trips it."""
+        quiet = Signal(16)
+        tripped = Signal()
+        trip = Signal()
+        m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
+        with m.If(arrival | (timeout == 0) | tripped | trip):
+            m.d.sync += quiet.eq(0)
+        with m.Elif(start):
+            m.d.sync += quiet.eq(_saturate(quiet + 1, 0xFFFF))
+        with m.If(trip):
+            m.d.sync += tripped.eq(1)
+        with m.Elif(clear):
+            m.d.sync += tripped.eq(0)
+        kept = Mux(count_clear, 0, trips)
+        m.d.sync += trips.eq(Mux(trip & (kept != 0xFFFF), kept + 1, kept))
+        return tripped, trip, quiet
+
+    def _watchdog_properties(self, m, start, arrival, timeout, tripped, quiet, clear, driver):
+        """Gates off the clock after the latch is seen (two after the tripping start), held
+        until a clear; a trip only at an update start after ``TIMEOUT`` quiet ones (a ghost
+        count, independent of the watchdog's own)."""
+        ghost = Signal(17, reset_less=True, name="formal_wd_quiet")
+        tripped_prev = Signal(reset_less=True, name="formal_wd_tripped_prev")
+        clear_prev = Signal(reset_less=True, name="formal_wd_clear_prev")
+        start_prev = Signal(reset_less=True, name="formal_wd_start_prev")
+        armed_prev = Signal(reset_less=True, name="formal_wd_armed_prev")
+        rst_prev = Signal(reset_less=True, name="formal_wd_rst_prev")
+        m.d.sync += [
+            ghost.eq(Mux(arrival | tripped | (timeout == 0) | ResetSignal(), 0,
+                         Mux(start & (ghost != 0x1FFFF), ghost + 1, ghost))),
+            tripped_prev.eq(tripped), clear_prev.eq(clear), start_prev.eq(start),
+            armed_prev.eq((timeout != 0) & ~arrival & (ghost >= timeout)),
+            rst_prev.eq(ResetSignal()),
+        ]
+        all_off = (driver.up == 0) & (driver.lo == 0)
+        m.d.comb += [
+            Assert(~tripped_prev | all_off, "gates on a clock after the watchdog latch"),
+            Assert(~tripped_prev | tripped | clear_prev | rst_prev,
+                   "watchdog latch cleared without CMD.WATCHDOG_CLEAR"),
+            Assert(tripped_prev | ~tripped | (start_prev & armed_prev),
+                   "watchdog tripped other than at an update start after TIMEOUT quiet ones"),
+            Assert(tripped | (quiet == Mux(ghost > 0xFFFF, 0xFFFF, ghost)),
+                   "invariant: the watchdog's count is the ghost's"),
+            Cover(tripped & ~tripped_prev),
+            Cover(tripped_prev & ~tripped),
+        ]
 
     def _mode_covers(self, m, core, driver):
         """Covers: a turn-on at the pins in every mode, and one that follows an edge inside a

@@ -156,11 +156,12 @@ DEMO_BASE = 0x100
 # interrupt sources (the bits of IRQ_ENABLE and IRQ_STATUS): the fault latch set, a switching
 # counter wrapped, a sampling tick (the update that takes the next reference has started: feed
 # one now), a short edge (a leg's command changed before the leg had followed the last change:
-# a pulse stretched or swallowed by the minimum pulse or the dead time)
+# a pulse stretched or swallowed by the minimum pulse or the dead time), the watchdog tripped
 IRQ_FAULT = _top.IRQ_STATUS_FAULT
 IRQ_COUNTER_WRAP = _top.IRQ_STATUS_COUNTER_WRAP
 IRQ_SAMPLE = _top.IRQ_STATUS_SAMPLE
 IRQ_SHORT_EDGE = _top.IRQ_STATUS_SHORT_EDGE
+IRQ_WATCHDOG = _top.IRQ_STATUS_WATCHDOG
 IRQ_MASK = _top.IRQ_STATUS_MASK
 
 

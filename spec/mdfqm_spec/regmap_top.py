@@ -24,6 +24,8 @@ __all__ = [
     "CMD_MASK",
     "CMD_REF_COMMIT",
     "CMD_REF_COMMIT_SHIFT",
+    "CMD_WATCHDOG_CLEAR",
+    "CMD_WATCHDOG_CLEAR_SHIFT",
     "CTRL",
     "CTRL_ENABLE",
     "CTRL_ENABLE_SHIFT",
@@ -69,6 +71,8 @@ __all__ = [
     "IRQ_ENABLE_SAMPLE_SHIFT",
     "IRQ_ENABLE_SHORT_EDGE",
     "IRQ_ENABLE_SHORT_EDGE_SHIFT",
+    "IRQ_ENABLE_WATCHDOG",
+    "IRQ_ENABLE_WATCHDOG_SHIFT",
     "IRQ_STATUS",
     "IRQ_STATUS_COUNTER_WRAP",
     "IRQ_STATUS_COUNTER_WRAP_SHIFT",
@@ -79,6 +83,8 @@ __all__ = [
     "IRQ_STATUS_SAMPLE_SHIFT",
     "IRQ_STATUS_SHORT_EDGE",
     "IRQ_STATUS_SHORT_EDGE_SHIFT",
+    "IRQ_STATUS_WATCHDOG",
+    "IRQ_STATUS_WATCHDOG_SHIFT",
     "MIN_PULSE",
     "MODULATION",
     "MODULATION_BITS",
@@ -106,6 +112,16 @@ __all__ = [
     "STATUS_REF_PENDING_SHIFT",
     "STATUS_SATURATED",
     "STATUS_SATURATED_SHIFT",
+    "STATUS_WATCHDOG",
+    "STATUS_WATCHDOG_SHIFT",
+    "WATCHDOG",
+    "WATCHDOG_MASK",
+    "WATCHDOG_TIMEOUT",
+    "WATCHDOG_TIMEOUT_SHIFT",
+    "WATCHDOG_TRIPS",
+    "WATCHDOG_TRIPS_MASK",
+    "WATCHDOG_TRIPS_TRIPS",
+    "WATCHDOG_TRIPS_TRIPS_SHIFT",
 ]
 
 #: the RDL addrmap's parameters and their defaults (the drop-in configuration)
@@ -143,6 +159,8 @@ IRQ_STATUS = 0x0E
 MODULATION = 0x0F
 REF_BASE = 0x10
 EVENTS_BASE = 0x20
+WATCHDOG = 0x30
+WATCHDOG_TRIPS = 0x31
 
 # INFO fields
 INFO_PHASES = 0x0000001F
@@ -177,7 +195,9 @@ CMD_FAULT_CLEAR = 0x00000002
 CMD_FAULT_CLEAR_SHIFT = 1
 CMD_COUNT_CLEAR = 0x00000004
 CMD_COUNT_CLEAR_SHIFT = 2
-CMD_MASK = 0x00000007
+CMD_WATCHDOG_CLEAR = 0x00000008
+CMD_WATCHDOG_CLEAR_SHIFT = 3
+CMD_MASK = 0x0000000F
 
 # STATUS fields
 STATUS_FAULT = 0x00000001
@@ -194,7 +214,9 @@ STATUS_PERIOD_CLAMPED = 0x00000020
 STATUS_PERIOD_CLAMPED_SHIFT = 5
 STATUS_MODE_CLAMPED = 0x00000040
 STATUS_MODE_CLAMPED_SHIFT = 6
-STATUS_MASK = 0x0000007F
+STATUS_WATCHDOG = 0x00000080
+STATUS_WATCHDOG_SHIFT = 7
+STATUS_MASK = 0x000000FF
 
 # GATES fields
 GATES_UPPER = 0x0000FFFF
@@ -212,7 +234,9 @@ IRQ_ENABLE_SAMPLE = 0x00000004
 IRQ_ENABLE_SAMPLE_SHIFT = 2
 IRQ_ENABLE_SHORT_EDGE = 0x00000008
 IRQ_ENABLE_SHORT_EDGE_SHIFT = 3
-IRQ_ENABLE_MASK = 0x0000000F
+IRQ_ENABLE_WATCHDOG = 0x00000010
+IRQ_ENABLE_WATCHDOG_SHIFT = 4
+IRQ_ENABLE_MASK = 0x0000001F
 
 # IRQ_STATUS fields
 IRQ_STATUS_FAULT = 0x00000001
@@ -223,7 +247,9 @@ IRQ_STATUS_SAMPLE = 0x00000004
 IRQ_STATUS_SAMPLE_SHIFT = 2
 IRQ_STATUS_SHORT_EDGE = 0x00000008
 IRQ_STATUS_SHORT_EDGE_SHIFT = 3
-IRQ_STATUS_MASK = 0x0000000F
+IRQ_STATUS_WATCHDOG = 0x00000010
+IRQ_STATUS_WATCHDOG_SHIFT = 4
+IRQ_STATUS_MASK = 0x0000001F
 
 # MODULATION fields
 MODULATION_MODE = 0x00000007
@@ -231,6 +257,16 @@ MODULATION_MODE_SHIFT = 0
 MODULATION_BITS = 0x00000F00
 MODULATION_BITS_SHIFT = 8
 MODULATION_MASK = 0x00000F07
+
+# WATCHDOG fields
+WATCHDOG_TIMEOUT = 0x0000FFFF
+WATCHDOG_TIMEOUT_SHIFT = 0
+WATCHDOG_MASK = 0x0000FFFF
+
+# WATCHDOG_TRIPS fields
+WATCHDOG_TRIPS_TRIPS = 0x0000FFFF
+WATCHDOG_TRIPS_TRIPS_SHIFT = 0
+WATCHDOG_TRIPS_MASK = 0x0000FFFF
 
 #: every register, in address order
 REGISTERS = (
@@ -308,7 +344,7 @@ REGISTERS = (
         "name": "CMD",
         "offset": 0x04,
         "access": "W",
-        "width": 3,
+        "width": 4,
         "reset": "0",
         "clamp": "",
         "doc": (
@@ -322,14 +358,26 @@ REGISTERS = (
             {"name": "FAULT_CLEAR", "lsb": 1, "width": 1, "access": "w", "reset": 0,
              "doc": "clear the fault latch if the input is inactive", "singlepulse": True},
             {"name": "COUNT_CLEAR", "lsb": 2, "width": 1, "access": "w", "reset": 0,
-             "doc": "zero EVENTS[i] and EVENTS_TOTAL", "singlepulse": True},
+             "doc": "zero EVENTS[i], EVENTS_TOTAL and WATCHDOG_TRIPS", "singlepulse": True},
+            {
+                "name": "WATCHDOG_CLEAR",
+                "lsb": 3,
+                "width": 1,
+                "access": "w",
+                "reset": 0,
+                "doc": (
+                    "clear the watchdog latch (gates resume at the next update boundary with "
+                    "ENABLE)"
+                ),
+                "singlepulse": True,
+            },
         ),
     },
     {
         "name": "STATUS",
         "offset": 0x05,
         "access": "R",
-        "width": 7,
+        "width": 8,
         "reset": "0",
         "clamp": "",
         "doc": "status. SATURATED and PERIOD_CLAMPED are the core's flags of its last update.",
@@ -355,6 +403,8 @@ REGISTERS = (
                     "of range)"
                 ),
             },
+            {"name": "WATCHDOG", "lsb": 7, "width": 1, "access": "r", "reset": 0,
+             "doc": "the watchdog latch: tripped (gates off) until CMD.WATCHDOG_CLEAR"},
         ),
     },
     {
@@ -461,7 +511,7 @@ REGISTERS = (
         "name": "IRQ_ENABLE",
         "offset": 0x0D,
         "access": "RW",
-        "width": 4,
+        "width": 5,
         "reset": "0",
         "clamp": "",
         "doc": "interrupt enable. The sources that drive irq; other bits dropped.",
@@ -475,13 +525,15 @@ REGISTERS = (
              "doc": "sampling tick"},
             {"name": "SHORT_EDGE", "lsb": 3, "width": 1, "access": "rw", "reset": 0,
              "doc": "a leg's command changed before the leg had followed the last change"},
+            {"name": "WATCHDOG", "lsb": 4, "width": 1, "access": "rw", "reset": 0,
+             "doc": "the watchdog tripped"},
         ),
     },
     {
         "name": "IRQ_STATUS",
         "offset": 0x0E,
         "access": "RW",
-        "width": 4,
+        "width": 5,
         "reset": "0",
         "clamp": "",
         "doc": (
@@ -498,6 +550,8 @@ REGISTERS = (
             {"name": "SAMPLE", "lsb": 2, "width": 1, "access": "rw", "reset": 0,
              "onwrite": "woclr", "intr": True},
             {"name": "SHORT_EDGE", "lsb": 3, "width": 1, "access": "rw", "reset": 0,
+             "onwrite": "woclr", "intr": True},
+            {"name": "WATCHDOG", "lsb": 4, "width": 1, "access": "rw", "reset": 0,
              "onwrite": "woclr", "intr": True},
         ),
     },
@@ -550,6 +604,39 @@ REGISTERS = (
         "count": 16,
         "fields": (
             {"name": "EVENTS", "lsb": 0, "width": 32, "access": "r", "reset": 0},
+        ),
+    },
+    {
+        "name": "WATCHDOG",
+        "offset": 0x30,
+        "access": "RW",
+        "width": 16,
+        "reset": "0",
+        "clamp": "min(v, 65535)",
+        "doc": (
+            "reference watchdog timeout (update starts). 0: off (the reset value). Otherwise the "
+            "update starts allowed without a new reference (a beat accepted on the ref port, or a "
+            "CMD.REF_COMMIT write): the next update start without one trips the watchdog "
+            "(STATUS.WATCHDOG; every gate off two clocks after that start, as on a fault, until "
+            "CMD.WATCHDOG_CLEAR). docs/top.md, Reference watchdog."
+        ),
+        "count": 1,
+        "fields": (
+            {"name": "TIMEOUT", "lsb": 0, "width": 16, "access": "rw", "reset": 0,
+             "clamp": "min(v, 65535)"},
+        ),
+    },
+    {
+        "name": "WATCHDOG_TRIPS",
+        "offset": 0x31,
+        "access": "R",
+        "width": 16,
+        "reset": "0",
+        "clamp": "",
+        "doc": "watchdog trips. Trips since reset or CMD.COUNT_CLEAR; saturates at 65535.",
+        "count": 1,
+        "fields": (
+            {"name": "TRIPS", "lsb": 0, "width": 16, "access": "r", "reset": 0},
         ),
     },
 )

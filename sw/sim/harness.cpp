@@ -115,14 +115,16 @@ int main(int argc, char **argv) {
     mdfqm_set_min_pulse(&dev, 3);
     mdfqm_set_adc_offset(&dev, 5);
     mdfqm_set_zero_policy(&dev, true);
-    mdfqm_irq_enable(&dev, MDFQM_TOP__IRQ_ENABLE__FAULT_bm | MDFQM_TOP__IRQ_ENABLE__SAMPLE_bm);
+    mdfqm_irq_enable(&dev, MDFQM_TOP__IRQ_ENABLE__FAULT_bm | MDFQM_TOP__IRQ_ENABLE__SAMPLE_bm
+                               | MDFQM_TOP__IRQ_ENABLE__WATCHDOG_bm);
+    mdfqm_set_watchdog(&dev, 6);    // a reference every OSR = 2 updates: three missed trip it
     mdfqm_enable(&dev, true);
 
     // firmware: on each sampling tick, the next point of a rotating voltage vector
     const double full = std::ldexp(1.0, (int)dev.width - 2);
     double angle = 0.0;
-    unsigned samples = 0, faults = 0;
-    bool fault_pending_clear = false, switched = false;
+    unsigned samples = 0, faults = 0, skipped = 0, watchdogs = 0;
+    bool fault_pending_clear = false, switched = false, watchdog_pending_clear = false;
     for (unsigned long t = 0; sim.cycle < 40000; t++) {
         if (!switched && sim.cycle >= 10000 && dev.max_bits >= 3) {
             mdfqm_set_modulation(&dev, MDFQM_MODE_SVPWM, 3);   // SVPWM at b = 3 from here on
@@ -132,13 +134,21 @@ int main(int argc, char **argv) {
         sim.fault_in = (sim.cycle >= 20000 && sim.cycle < 20006);
         if (top.irq) {
             mdfqm_irq_causes_t causes = mdfqm_irq_handle(&dev);
-            std::fprintf(sim.log, "IRQ %d %d %d\n", causes.fault, causes.counter_wrap,
-                         causes.sample);
+            std::fprintf(sim.log, "IRQ %d %d %d %d\n", causes.fault, causes.counter_wrap,
+                         causes.sample, causes.watchdog);
             if (causes.fault) {
                 faults++;
                 fault_pending_clear = true;
             }
-            if (causes.sample) {
+            if (causes.watchdog) {
+                watchdogs++;
+                watchdog_pending_clear = true;
+            }
+            // a stalled control loop: the ticks are acknowledged, no reference is written
+            bool stalled = sim.cycle >= 30000 && sim.cycle < 32000;
+            if (causes.sample && stalled) {
+                skipped++;
+            } else if (causes.sample) {
                 int32_t codes[16];
                 angle += 0.05;
                 for (unsigned i = 0; i < dev.phases; i++)
@@ -147,6 +157,10 @@ int main(int argc, char **argv) {
                 mdfqm_write_reference(&dev, codes);
                 samples++;
             }
+        } else if (watchdog_pending_clear && sim.cycle > 32000) {
+            mdfqm_clear_watchdog(&dev);
+            std::fprintf(sim.log, "WATCHDOG_CLEAR\n");
+            watchdog_pending_clear = false;
         } else if (fault_pending_clear && sim.cycle > 21000) {
             bool clear = mdfqm_clear_fault(&dev);
             std::fprintf(sim.log, "CLEAR %d\n", clear);
@@ -167,10 +181,12 @@ int main(int argc, char **argv) {
     mdfqm_clear_counters(&dev);
     uint32_t total = mdfqm_events_total(&dev), status = mdfqm_status(&dev);
     std::fprintf(sim.log, "CLEARED %x %x\n", total, status);
+    uint32_t trips = mdfqm_watchdog_trips(&dev);   // zeroed by the clear above
     unsigned mode, bits;
     mdfqm_modulation_in_force(&dev, &mode, &bits);
     std::fprintf(sim.log, "MODULATION %u %u\n", mode, bits);
-    std::fprintf(sim.log, "DONE %u %u\n", samples, faults);
+    std::fprintf(sim.log, "DONE %u %u %u %u %u\n", samples, faults, skipped, watchdogs,
+                 (unsigned)trips);
     std::fclose(sim.log);
     top.final();
     return 0;

@@ -157,7 +157,9 @@ def test_the_map_keeps_the_contract():
     assert [(f.name, f.lsb) for f in enable.fields] == [(f.name, f.lsb) for f in status.fields]
     assert all(f.intr and f.onwrite == "woclr" for f in status.fields)
     assert (regmap.IRQ_FAULT, regmap.IRQ_COUNTER_WRAP, regmap.IRQ_SAMPLE, regmap.IRQ_SHORT_EDGE,
-            regmap.IRQ_MASK) == (1, 2, 4, 8, 15)
+            regmap.IRQ_WATCHDOG, regmap.IRQ_MASK) == (1, 2, 4, 8, 16, 31)
+    # the watchdog's timeout and trip count are 16-bit (the gateware's counters)
+    assert regmap.WATCHDOG_TIMEOUT == regmap.WATCHDOG_TRIPS_TRIPS == 0xFFFF
     assert regmap.PARAMETERS["modes"] == modes_built_in(regmap.PARAMETERS["max_bits"]) == \
         len(MODES)
     assert regmap.MODULATION_MODE == (1 << MODE_WIDTH) - 1
@@ -328,7 +330,7 @@ def test_an_rdl_that_disagrees_with_the_committed_map_fails(tmp_path):
     """A scratch copy of the RDL with OSR's clamp and CTRL's address changed: the generator's
     check names both committed files, the field-by-field comparison names both registers."""
     text = regmap_gen.RDL.read_text()
-    edits = {'clamp = "min(v, 255)"': 'clamp = "min(v, 127)"', "} CTRL @ 0x0C;": "} CTRL @ 0xC0;"}
+    edits = {'clamp = "min(v, 255)"': 'clamp = "min(v, 127)"', "} CTRL @ 0x0C;": "} CTRL @ 0xE0;"}
     for old, new in edits.items():
         assert text.count(old) == 1
         text = text.replace(old, new)
