@@ -72,7 +72,8 @@ class DemoConfig:
         The top's dead-time floor (elaboration parameter, at least one clock).
     max_bits : int
         The top's ``max_bits``: 0 (the default) builds the MDFQM-only top, which every board
-        fits; 1 .. min(12, width - 2) the whole generator (SVPWM, DPWM, b-bit) behind the bus.
+        fits (the iCEBreaker keeps it); 1 .. min(12, width - 2) the whole generator (SVPWM,
+        DPWM, b-bit) behind the bus (the HX8K and ECP5 boards: 8).
     bus_timeout, frame_timeout : int or None
         The bridge's (default frame timeout: 30 byte times).
     """

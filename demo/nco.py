@@ -116,8 +116,12 @@ class SineNco(wiring.Component):
                 ]
                 m.next = "MULTIPLY"
             with m.State("MULTIPLY"):
-                step = Cat(Const(0, 1), product[:-1]) + Mux(mag[-1], amp, 0)
-                m.d.sync += [product.eq(step), mag.eq(mag << 1), bit.eq(bit - 1)]
+                # shift-and-add from the magnitude's LSB: the amplitude is added to the top
+                # width - 1 bits only (a short carry chain; the low bits shift through), and
+                # the product is the same exact amp * mag after mag_bits steps
+                high = product[mag_bits:] + Mux(mag[0], amp, 0)
+                step = Cat(product[1:mag_bits], high)
+                m.d.sync += [product.eq(step), mag.eq(mag >> 1), bit.eq(bit - 1)]
                 with m.If(bit == 0):
                     code = step[mag_bits:]
                     m.d.sync += self.ref.payload[k].eq(Mux(negative, -code, code))

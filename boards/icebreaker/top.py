@@ -1,7 +1,8 @@
 """iCEBreaker (iCE40UP5K-SG48): the default board.
 
-Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 16.5 MHz system clock (the design
-reaches about 21 MHz on the UP5K; its critical path is the gate driver's dead-time compare).
+Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 27 MHz system clock (the demo reaches
+about 29 MHz on the UP5K; its critical path is the bridge's register read through the top's
+read multiplexer). The MDFQM-only top: the full generator does not fit beside the demo.
 Pins: gates, fault and scope trigger on PMOD1A; UART through the FTDI (second channel);
 LEDs: green = active, red = fault, break-off LED2 = heartbeat; buttons: the user button
 (enable toggle) and the break-off PMOD's three buttons.
@@ -17,7 +18,7 @@ BOARD = Board(
     platform=ICEBreakerPlatform,
     clock="clk12",
     clock_hz=12e6,
-    pll=Ice40Pll(divr=0, divf=87, divq=6, filter_range=1, pad=True),   # icepll -i 12 -o 16.5
+    pll=Ice40Pll(divr=0, divf=71, divq=5, filter_range=1, pad=True),   # icepll -i 12 -o 27
     connector=("pmod", 0),                                               # PMOD1A
     connector_label="PMOD1A",
     gate_pins=(("1", "2", "3"), ("7", "8", "9")),

@@ -1,6 +1,6 @@
 """ULX3S with an LFE5U-85F (CABGA381).
 
-Clock: 25 MHz oscillator -> EHXPLLL -> 50 MHz system clock.
+Clock: 25 MHz oscillator -> EHXPLLL -> 75 MHz system clock.
 Pins: gates, fault and scope trigger on GPIO header J1 (GP0-GP3 / GN0-GN3); UART through
 the FTDI (US1 port); LEDs D0 = active, D1 = fault, D7 = heartbeat; buttons: UP/DOWN frequency,
 RIGHT/LEFT amplitude, FIRE1 enable toggle, FIRE2 fault clear.
@@ -18,7 +18,7 @@ BOARD = Board(
     platform=ULX3S_85F_Platform,
     clock="clk25",
     clock_hz=25e6,
-    pll=Ecp5Pll(clki_div=1, clkfb_div=2, clkop_div=12, clkop_cphase=5),  # ecppll -i 25 -o 50
+    pll=Ecp5Pll(clki_div=1, clkfb_div=3, clkop_div=8, clkop_cphase=4),   # ecppll -i 25 -o 75
     connector=("gpio", 0),
     connector_label="header",
     pin_labels={f"{i}{s}": f"{'GP' if s == '+' else 'GN'}{i}" for i in range(4)
@@ -33,4 +33,5 @@ BOARD = Board(
              (("button_fire", 0), "enable"), (("button_fire", 1), "fault_clear")),
     io_attrs=LVCMOS33,
     fault_attrs={"IO_TYPE": "LVCMOS33", "PULLMODE": "UP"},
+    demo={"max_bits": 8},
 )

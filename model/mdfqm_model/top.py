@@ -72,10 +72,11 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   ``irq <= |(IRQ_STATUS & IRQ_ENABLE)`` (registered from both
   registers: it follows them one clock later; reset 0).
 - Reference watchdog: a reference *arrives* in a cycle with a beat taken on the port
-  (``ref_valid & ref_ready``) or a ``CMD.REF_COMMIT`` write. ``quiet`` counts update starts
-  since the last arrival (16 bits, saturating): ``quiet <= 0`` if an arrival, ``WATCHDOG == 0``
+  (``ref_valid & ref_ready``) or a ``CMD.REF_COMMIT`` write; the watchdog *sees* it in the next
+  cycle (``arrival``, a register). ``quiet`` counts update starts since the last arrival seen
+  (16 bits, saturating): ``quiet <= 0`` if an arrival is seen, ``WATCHDOG == 0``
   (off), the latch, or a trip in this cycle, else ``quiet + 1`` in a cycle with ``start``. A
-  *trip* is a cycle with ``start``, no arrival, ``WATCHDOG != 0``, the latch clear and
+  *trip* is a cycle with ``start``, no arrival seen, ``WATCHDOG != 0``, the latch clear and
   ``quiet >= WATCHDOG``: the latch (``STATUS.WATCHDOG``) sets, ``WATCHDOG_TRIPS`` counts it
   (saturating at 65535; ``CMD.COUNT_CLEAR`` zeroes it, a trip in the same cycle counts 1), and
   ``IRQ_STATUS.WATCHDOG`` is set. The latch is the driver's ``stop``: every gate off in the cycle
@@ -317,6 +318,7 @@ class TopModel:
         self.wd_quiet = 0               # update starts since the last reference arrival
         self.wd_tripped = 0
         self.wd_trips = 0
+        self.wd_arrival = 0             # a reference arrived in the clock before
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -452,9 +454,10 @@ class TopModel:
         value = self.read(read, core_out, drv_out, up, lo) if read is not None else 0
 
         # the watchdog (a reference arrives as a beat taken on the port or as a commit)
-        arrival = bool(ref_valid and port_ready) or bool(cmd & CMD_REF_COMMIT)
+        arrival = self.wd_arrival                   # seen the clock after it arrives
         trip = (self.wd_timeout != 0 and not self.wd_tripped and core_out["start"]
                 and not arrival and self.wd_quiet >= self.wd_timeout)
+        self.wd_arrival = int(bool(ref_valid and port_ready) or bool(cmd & CMD_REF_COMMIT))
         if arrival or self.wd_timeout == 0 or self.wd_tripped or trip:
             self.wd_quiet = 0
         elif core_out["start"]:

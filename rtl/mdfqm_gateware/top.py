@@ -241,7 +241,9 @@ class MdfqmTop(wiring.Component):
 
         mode_clamped, mode_in_force, bits_in_force = self._modulation(
             m, core, mode_request, bits_request)
-        arrival = (self.ref.valid & self.ref.ready) | ref_commit
+        # a reference seen by the watchdog the clock after it arrives: off the bus-decode path
+        arrival = Signal()
+        m.d.sync += arrival.eq((self.ref.valid & self.ref.ready) | ref_commit)
         wd_tripped, wd_trip, wd_quiet = self._watchdog(m, core.start, arrival, wd_timeout,
                                                        wd_trips, watchdog_clear, count_clear)
         rd = Signal(32)
@@ -386,7 +388,7 @@ class MdfqmTop(wiring.Component):
     def _watchdog(self, m, start, arrival, timeout, trips, clear, count_clear):
         """The reference watchdog: ``(latch, trip strobe, quiet)``. ``quiet`` counts the update
         starts since the last reference arrival (held at 0 while off or tripped); the start that
-        finds ``quiet >= TIMEOUT`` without an arrival in its clock trips it."""
+        finds ``quiet >= TIMEOUT`` without an arrival seen (registered) in its clock trips it."""
         quiet = Signal(16)
         tripped = Signal()
         trip = Signal()
