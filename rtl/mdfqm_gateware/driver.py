@@ -106,24 +106,18 @@ class LegDriver(wiring.Component):
         m.d.comb += self.in_min_pulse.eq(pulse_short)
 
         on = self.upper | self.lower
-        want_up = self.drive & self.cmd
-        want_lo = self.drive & ~self.cmd
         m.d.comb += dt.eq(dt_expr)
-        with m.If(~self.drive):
-            m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
-        with m.Elif(on):
-            held = (self.upper & want_up) | (self.lower & want_lo)
-            with m.If(held | pulse_short):
-                m.d.comb += [nxt_up.eq(self.upper), nxt_lo.eq(self.lower)]
-            with m.Else():
-                m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
-        with m.Elif(dead_elapsed):
-            m.d.comb += [nxt_up.eq(want_up), nxt_lo.eq(want_lo)]
-        with m.Else():
-            m.d.comb += [nxt_up.eq(0), nxt_lo.eq(0)]
-
-        nxt_on = nxt_up | nxt_lo
-        restart = rst | (nxt_on != on)      # the next clock starts a new state, count 1
+        # the next state while driven, written flat (the Fmax path runs from ``drive`` through
+        # ``restart`` into the counters): an on switch is kept while commanded or inside its
+        # minimum pulse, else turned off; from off, the commanded switch turns on once the dead
+        # time has elapsed
+        keep = (self.upper & self.cmd) | (self.lower & ~self.cmd) | pulse_short
+        m.d.comb += [
+            nxt_up.eq(self.drive & Mux(on, self.upper & keep, dead_elapsed & self.cmd)),
+            nxt_lo.eq(self.drive & Mux(on, self.lower & keep, dead_elapsed & ~self.cmd)),
+        ]
+        # the next clock starts a new state (count 1): the on/off state changes
+        restart = rst | Mux(self.drive, Mux(on, ~keep, dead_elapsed), on)
 
         def decisions(c):
             """(dead_elapsed, pulse_short) of the next clock if its count is ``c``: dt_run
@@ -136,7 +130,7 @@ class LegDriver(wiring.Component):
         m.d.sync += [
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
-            self.event.eq(~on & nxt_on),
+            self.event.eq(~on & (nxt_up | nxt_lo)),
             count.eq(Mux(restart, 1, count_next)),
             count_next.eq(Mux(restart, 2, Mux(count_next == top + 1, top + 1, count_next + 1))),
             dead_elapsed.eq(Mux(restart, elapsed_restart, elapsed_hold)),

