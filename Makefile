@@ -71,6 +71,7 @@ perf: $(STAMP)
 report: $(STAMP)
 	$(PY) -m tools.analysis --out reports
 	$(PY) -m tools.gateware_report --out reports
+	$(PY) -m tools.pins_report --out reports --jobs $(JOBS)
 	$(PY) -m tools.board_report
 
 clean:
