@@ -38,6 +38,13 @@ from mdfqm_spec.regmap import ADDR_WIDTH
     ("leg_dmin3_tw4", lambda: LegDriver(3, 4, formal=True), 24, ("prove", "cover")),
     ("gate_driver_n3_dmin5_tw16", lambda: GateDriver(3, 5, 16, True, False, formal=True), 20,
      ("prove", "cover")),
+    # the other three pin polarity pairs (the properties at the pins read them back)
+    ("gate_driver_n3_high_high", lambda: GateDriver(3, 2, 6, False, False, formal=True), 12,
+     ("prove",)),
+    ("gate_driver_n3_high_low", lambda: GateDriver(3, 2, 6, False, True, formal=True), 12,
+     ("prove",)),
+    ("gate_driver_n3_low_low", lambda: GateDriver(3, 2, 6, True, True, formal=True), 12,
+     ("prove",)),
 ])
 def test_sby_proves_the_driver_properties(name, factory, depth, tasks):
     run_sby(factory(), name, depth, tasks)
@@ -234,6 +241,27 @@ def test_sby_finds_an_ungated_fault():
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(GateDriver(3, 2, 6, formal=True), "driver_ungated_fault", 12, tasks=("bmc",),
                 keep_failed=False, mutation=("cd dut", "connect -set fault_active 1'0", "cd"))
+
+
+class LowerPinActiveHighDriver(GateDriver):
+    """A broken driver whose lower pins ignore ``lower_active_low`` (the last assignment to
+    the pins wins): with an active-low lower driver, every lower switch is on from reset."""
+
+    def elaborate(self, platform):
+        m = super().elaborate(platform)
+        m.d.comb += self.lower.eq(self.lo)
+        return m
+
+
+@pytest.mark.parametrize(("upper_low", "lower_low"), [(False, True), (True, True)])
+def test_sby_finds_a_wrong_pin_polarity(upper_low, lower_low):
+    """The lower pins driven active-high although the parameter says active-low (a mixed pair
+    and a both-low one): the properties at the pins have a counterexample."""
+    site = assertion_site(driver.__file__, "pins not the gates in their polarity")
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
+        run_sby(LowerPinActiveHighDriver(3, 2, 6, upper_low, lower_low, formal=True),
+                f"driver_wrong_polarity_{int(upper_low)}{int(lower_low)}", 6, tasks=("bmc",),
+                keep_failed=False)
 
 
 class UnwiredWatchdogTop(MdfqmTop):

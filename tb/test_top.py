@@ -22,6 +22,7 @@ from mdfqm_model.driver import check_gate_safety
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES, min_period
+from top_stimulus import IDLE_WISHBONE
 
 # (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus, counter_width,
 #  max_bits): the generator at the drop-in's b, a smaller one, the MDFQM-only top
@@ -52,11 +53,12 @@ def make_model(p):
 
 
 class WishboneMaster:
-    """One operation at a time: ``cyc`` and ``stb`` raised together and held until ``ack``,
-    idle gaps between; random address, data and ``sel`` while idle."""
+    """One operation at a time: ``cyc`` raised, ``stb`` with it or up to two clocks later, both
+    held until ``ack``; idle gaps between, with ``cyc`` or ``stb`` alone at random (never
+    both) and random address, data and ``sel``."""
 
     def __init__(self, rng):
-        self.rng, self.current, self.gap = rng, None, 0
+        self.rng, self.current, self.gap, self.lead = rng, None, 0, 0
 
     def busy(self):
         return self.current is not None
@@ -64,10 +66,14 @@ class WishboneMaster:
     def inputs(self, ops):
         rng = self.rng
         if self.current is None and self.gap == 0 and ops:
-            self.current = ops.popleft()
+            self.current, self.lead = ops.popleft(), rng.choice([0, 0, 0, 1, 2])
         adr, we, dat = self.current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
-        busy = int(self.current is not None)
-        return {"wb_cyc": busy, "wb_stb": busy, "wb_we": we, "wb_adr": adr, "wb_dat_w": dat,
+        if self.current is None:
+            cyc, stb = rng.choice(IDLE_WISHBONE)
+        else:
+            cyc, stb = 1, int(self.lead == 0)
+            self.lead = max(0, self.lead - 1)
+        return {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr, "wb_dat_w": dat,
                 "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
 
     def observe(self, bus, out):

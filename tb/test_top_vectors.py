@@ -15,11 +15,15 @@ from mdfqm_spec.contract import MODES
 from top_stimulus import top_stimulus
 from vectors import VectorBench
 
-#: (name, top, runs x cycles): 4 x 225 000 + 2 x 50 000 = 1 000 000 checked clocks
+#: (name, top, runs x cycles): 4 x 225 000 + 2 x 50 000 + 2 x 30 000 = 1 060 000 checked
+#: clocks
 CASES = [
     ("wishbone_b8", lambda: MdfqmTop(3, 16, max_bits=8), (225_000,) * 4),
     ("axi4lite_b3", lambda: MdfqmTop(3, 16, bus="axi4lite", max_bits=3), (50_000,)),
     ("mdfqm_only", lambda: MdfqmTop(3, 16, max_bits=0), (50_000,)),
+    # a mixed pin polarity pair, both ways round (active-low upper drivers are common)
+    ("upper_low_b2", lambda: MdfqmTop(3, 16, upper_active_low=True, max_bits=2), (30_000,)),
+    ("lower_low_b2", lambda: MdfqmTop(3, 16, lower_active_low=True, max_bits=2), (30_000,)),
 ]
 
 

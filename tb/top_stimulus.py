@@ -11,12 +11,16 @@ from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import Contract
 from vectors import ports_of
 
+#: (cyc, stb) of an idle Wishbone master clock: neither, cyc alone, stb alone (never a request)
+IDLE_WISHBONE = ((0, 0), (0, 0), (1, 0), (0, 1))
+
 
 def top_stimulus(rng, component, phases, width, cycles):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``, a
     fault pulse and its clear, a stall of the stream (the watchdog on at times), sync pulses and
-    a reset in the middle; the settings make the
+    a reset in the middle; on Wishbone, ``cyc`` or ``stb`` alone while idle and ``cyc`` raised
+    before ``stb`` at times; the settings make the
     gates switch within a few thousand clocks; MODULATION written now and then (any mode code,
     small b). Returns (inputs, expected outputs) by port, and the set of modes that were in
     force in some clock."""
@@ -39,7 +43,7 @@ def top_stimulus(rng, component, phases, width, cycles):
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
     ops = settings()
-    current, gap, angle, offered = None, 0, rng.uniform(0, 2 * math.pi), None
+    current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
     aw_done = w_done = ar_done = False
     fault_until = -1
     modes = set()
@@ -65,6 +69,7 @@ def top_stimulus(rng, component, phases, width, cycles):
             ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2])))
         if current is None and ops and gap == 0:
             current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
+            lead = rng.choice([0, 0, 0, 1, 2])     # Wishbone: cyc raised before stb
         gap = max(0, gap - 1)
         adr, we, data = current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
         busy = current is not None
@@ -79,7 +84,11 @@ def top_stimulus(rng, component, phases, width, cycles):
                    "s_axi_arvalid": int(busy and not we and not ar_done),
                    "s_axi_rready": int(rng.random() < 0.6)}
         else:
-            bus = {"wb_cyc": int(busy), "wb_stb": int(busy), "wb_we": we, "wb_adr": adr,
+            # idle: cyc or stb alone (a master holding the bus, a shared strobe), never both;
+            # an access: cyc, then stb after ``lead`` clocks, both held until ack
+            cyc, stb = (1, int(lead == 0)) if busy else rng.choice(IDLE_WISHBONE)
+            lead = max(0, lead - 1)
+            bus = {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr,
                    "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
         stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
         if offered is None and not stalled and rng.random() < 0.3:

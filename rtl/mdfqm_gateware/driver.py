@@ -367,6 +367,16 @@ class GateDriver(wiring.Component):
             rst_prev.eq(ResetSignal()),
         ]
         all_off = (up == 0) & (lo == 0)
+        # the pins read back through the polarity the parameters document: a wrong inversion
+        # at the pins is shoot-through at the board (from reset, for a mixed pair)
+        ones = (1 << self.phases) - 1
+        pin_up = self.upper ^ (ones if self.upper_active_low else 0)
+        pin_lo = self.lower ^ (ones if self.lower_active_low else 0)
+        m.d.comb += [
+            Assert((pin_up & pin_lo) == 0, "both switches of a leg on at the pins"),
+            Assert((pin_up == up) & (pin_lo == lo), "pins not the gates in their polarity"),
+            Assert(~rst_prev | ((pin_up == 0) & (pin_lo == 0)), "pins not off after reset"),
+        ]
         m.d.comb += [
             Assert(~input_prev | all_off, "gates on one clock after the synchronised fault"),
             Assert(~stop_prev | all_off, "gates on one clock after stop"),
