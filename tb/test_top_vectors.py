@@ -12,7 +12,7 @@ import pytest
 
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.contract import MODES
-from top_stimulus import top_stimulus
+from top_stimulus import COINCIDENT, top_stimulus
 from vectors import VectorBench
 
 #: (name, top, runs x cycles): 4 x 225 000 + 2 x 50 000 + 2 x 30 000 = 1 060 000 checked
@@ -33,10 +33,10 @@ def test_top_vectors(name, build, runs):
     print(f"top {name}: seed {seed} (replay with SEED={seed})")
     top = build()
     bench = VectorBench(top, "mdfqm_top", name)
-    total = 0
+    total, census = 0, {}
     for k, cycles in enumerate(runs):
         rng = random.Random(f"{seed}-{name}-{k}")
-        stim, expected, modes = top_stimulus(rng, top, 3, 16, cycles)
+        stim, expected, modes = top_stimulus(rng, top, 3, 16, cycles, census)
         if top.max_bits:
             assert modes == set(range(len(MODES))), f"modes in force: {sorted(modes)}"
         result = bench.run(stim, expected, name=f"run{k}")
@@ -46,4 +46,11 @@ def test_top_vectors(name, build, runs):
         total += cycles
         print(f"top {name} run {k}: {cycles} cycles, modes in force {sorted(modes)}, "
               "0 mismatches", flush=True)
-    print(f"top {name}: {total} cycles checked, 0 mismatches")
+    print(f"top {name}: {total} cycles checked, 0 mismatches; a write / a command in the "
+          "clock of " + ", ".join(f"{event} {census.get(('write', event), 0)} / "
+                                   f"{census.get(('command', event), 0)}"
+                                   for event in COINCIDENT))
+    # two events in one clock: every pair met (a command with a turn-on, a fault, a sync, a beat)
+    missing = [pair for pair in ((kind, event) for kind in ("write", "command")
+                                 for event in COINCIDENT) if not census.get(pair)]
+    assert not missing, f"seed {seed}: never in one clock: {missing}"

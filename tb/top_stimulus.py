@@ -15,15 +15,24 @@ from vectors import ports_of
 IDLE_WISHBONE = ((0, 0), (0, 0), (1, 0), (0, 1))
 
 
-def top_stimulus(rng, component, phases, width, cycles):
+#: the events a register write or command can meet in one clock (``census`` of top_stimulus)
+COINCIDENT = ("beat", "fault", "sync", "turn_on")
+
+
+def top_stimulus(rng, component, phases, width, cycles, census=None):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``, a
     fault pulse and its clear, a stall of the stream (the watchdog on at times), sync pulses and
     a reset in the middle; on Wishbone, ``cyc`` or ``stb`` alone while idle and ``cyc`` raised
     before ``stb`` at times; the settings make the
     gates switch within a few thousand clocks; MODULATION written now and then (any mode code,
-    small b). Returns (inputs, expected outputs) by port, and the set of modes that were in
-    force in some clock."""
+    small b); a burst of back-to-back commands and clears (``CMD`` with random bits,
+    ``IRQ_STATUS`` write-1-to-clear, settings) under frequent fault and sync pulses, so that
+    writes land in the same clock as the other events. Returns (inputs, expected outputs) by
+    port, and the set of modes that were in force in some clock. ``census``, a dict if given,
+    counts the clocks where a register write (``write``) or a ``CMD`` write (``command``) is
+    issued together with each of :data:`COINCIDENT`: a reference beat taken, the fault input
+    high, a sync pulse, a gate turning on; keys like ``("command", "beat")``."""
     axi = component.bus == "axi4lite"
     model = TopModel(phases, width, component.rule, component.dead_min,
                      component.upper_active_low, component.lower_active_low, bus=component.bus,
@@ -42,8 +51,19 @@ def top_stimulus(rng, component, phases, width, cycles):
                       (regs.WATCHDOG, 1, rng.choice([0, 2, 4])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
+    def random_write():
+        """Any word to any address, but a dead time or minimum pulse of at most 63 clocks: a
+        dead time in force is never shortened (docs/top.md), so one of 65535 clocks would stop
+        the gates for the rest of a run."""
+        address = rng.randrange(64)
+        data = rng.choice([0, 1, 3, 90, 0xFFFF]) if rng.random() < 0.3 else rng.getrandbits(32)
+        if address in (regs.DEAD, regs.MIN_PULSE):
+            data &= 0x3F
+        return address, 1, data
+
     ops = settings()
     current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
+    was_on = 0
     aw_done = w_done = ar_done = False
     fault_until = -1
     modes = set()
@@ -59,12 +79,25 @@ def top_stimulus(rng, component, phases, width, cycles):
                 [(regs.CMD, 1, regs.CMD_FAULT_CLEAR), (regs.STATUS, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_COUNT_CLEAR), (regs.EVENTS_TOTAL, 0, 0)],
                 [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
-                [(rng.randrange(64), 1, rng.getrandbits(32))],
+                [random_write()],
                 [(regs.MODULATION, 1, rng.randrange(8) << regs.MODULATION_MODE_SHIFT
                   | rng.choice([1, 2, 3, 15]) << regs.MODULATION_BITS_SHIFT),
                  (regs.MODULATION, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
             ]))
+        burst = cycles * 7 // 10 <= cycle < cycles * 7 // 10 + 4000
+        # firmware restoring its settings now and then (random writes may leave a dead time
+        # of 65535 clocks or the enable off: the gates would stop switching for good)
+        if cycle == cycles * 7 // 10 + 4000 or (not ops and rng.random() < 0.0005):
+            ops.extend(settings())
+            ops.append((regs.CMD, 1, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR))
+        if burst and not ops:
+            ops.append(rng.choice([
+                (regs.CMD, 1, rng.randrange(16)), (regs.CMD, 1, rng.randrange(16)),
+                (regs.IRQ_STATUS, 1, rng.getrandbits(32)), (regs.IRQ_STATUS, 0, 0),
+                random_write(), random_write(),
+            ]))
+            gap = 0
         if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
             ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2])))
         if current is None and ops and gap == 0:
@@ -97,10 +130,23 @@ def top_stimulus(rng, component, phases, width, cycles):
                        for i in range(phases)]
         if cycle == cycles // 4:
             fault_until = cycle + rng.randrange(3, 20)
+        if burst and rng.random() < 0.01:
+            fault_until = cycle + rng.randrange(3)
         fault_in = int(cycle <= fault_until)
-        sync_in = int(rng.random() < 0.003)
+        sync_in = int(rng.random() < (0.05 if burst else 0.003))
         payload, valid = offered or [0] * phases, int(offered is not None)
         modes.add(getattr(model.core, "mode_lat", 0))
+        if census is not None and not rst:
+            write, _ = model.front.access({name: bus.get(name, 0) for name in model.front.INPUTS})
+            on = model.driver.up | model.driver.lo
+            happening = {"beat": valid and model.ref_ready, "fault": fault_in, "sync": sync_in,
+                         "turn_on": on & ~was_on}
+            for kind in ("write", "command"):
+                if write is not None and (kind == "write" or write[0] == regs.CMD):
+                    for event in COINCIDENT:
+                        if happening[event]:
+                            census[kind, event] = census.get((kind, event), 0) + 1
+            was_on = on
         out = model.step(rst=rst, ref_valid=valid, ref=payload,
                          fault_in=fault_in, sync_in=sync_in, **bus)
         if offered is not None and out["ref_ready"] and not rst:
