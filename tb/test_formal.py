@@ -257,7 +257,7 @@ class LowerPinActiveHighDriver(GateDriver):
 def test_sby_finds_a_wrong_pin_polarity(upper_low, lower_low):
     """The lower pins driven active-high although the parameter says active-low (a mixed pair
     and a both-low one): the properties at the pins have a counterexample."""
-    site = assertion_site(driver.__file__, "pins not the gates in their polarity")
+    site = assertion_site(driver.__file__, "pins not off after reset")
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(LowerPinActiveHighDriver(3, 2, 6, upper_low, lower_low, formal=True),
                 f"driver_wrong_polarity_{int(upper_low)}{int(lower_low)}", 6, tasks=("bmc",),

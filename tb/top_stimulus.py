@@ -64,6 +64,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     ops = settings()
     current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
     was_on = 0
+    burst_start = cycles * 7 // 10
+    burst_end = burst_start + max(4000, cycles // 8)
     aw_done = w_done = ar_done = False
     fault_until = -1
     modes = set()
@@ -85,15 +87,16 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                  (regs.MODULATION, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
             ]))
-        burst = cycles * 7 // 10 <= cycle < cycles * 7 // 10 + 4000
+        burst = burst_start <= cycle < burst_end
         # firmware restoring its settings now and then (random writes may leave a dead time
         # of 65535 clocks or the enable off: the gates would stop switching for good)
-        if cycle == cycles * 7 // 10 + 4000 or (not ops and rng.random() < 0.0005):
+        if cycle == burst_end or (not ops and rng.random() < 0.0005):
             ops.extend(settings())
             ops.append((regs.CMD, 1, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR))
         if burst and not ops:
             ops.append(rng.choice([
-                (regs.CMD, 1, rng.randrange(16)), (regs.CMD, 1, rng.randrange(16)),
+                (regs.CMD, 1, rng.randrange(16)),
+                (regs.CMD, 1, rng.randrange(16) & ~regs.CMD_REF_COMMIT),  # the port served
                 (regs.IRQ_STATUS, 1, rng.getrandbits(32)), (regs.IRQ_STATUS, 0, 0),
                 random_write(), random_write(),
             ]))
