@@ -21,7 +21,7 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate bitstream test lint model-test sim prove-long soak perf report clean distclean
+.PHONY: all setup generate bitstream test lint model-test sim prove-long soak perf mutate report clean distclean
 
 all: generate bitstream
 
@@ -67,6 +67,9 @@ soak: $(STAMP)
 
 perf: $(STAMP)
 	$(PY) -m tools.perf --readme README.md
+
+mutate: $(STAMP)
+	$(PY) -m tools.mutate --jobs $(JOBS) --resume --out reports
 
 report: $(STAMP)
 	$(PY) -m tools.analysis --out reports

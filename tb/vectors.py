@@ -75,16 +75,26 @@ def ports_of(component) -> tuple[list[tuple[str, int]], list[tuple[str, int]]]:
     return inputs, outputs
 
 
+#: SystemVerilog keywords a port of the project is named (the gate driver's ``event``): written
+#: as escaped identifiers, as Amaranth's and Yosys's Verilog writers do
+SV_KEYWORDS = frozenset({"event"})
+
+
+def verilog_name(name: str) -> str:
+    """``name`` as a Verilog identifier: escaped (``\\event ``) when it is a keyword."""
+    return f"\\{name} " if name in SV_KEYWORDS else name
+
+
 def port_connections(inputs, outputs) -> str:
     """The design's port list in a bench: inputs from the packed word ``stim``, outputs into
     ``got``, both LSB first in the order given."""
     connections, offset = [], 0
     for name, width in inputs:
-        connections.append(f"        .{name}(stim[{offset + width - 1}:{offset}])")
+        connections.append(f"        .{verilog_name(name)}(stim[{offset + width - 1}:{offset}])")
         offset += width
     offset = 0
     for name, width in outputs:
-        connections.append(f"        .{name}(got[{offset + width - 1}:{offset}])")
+        connections.append(f"        .{verilog_name(name)}(got[{offset + width - 1}:{offset}])")
         offset += width
     return ",\n".join(["        .clk(clk)", *connections])
 

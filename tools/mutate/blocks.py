@@ -1,0 +1,199 @@
+"""The blocks of a campaign: each drop-in (core, generator, the top with each front) and the
+gate driver, with what tests each: its vector stimulus (stage 1), its cocotb tests and formal
+proof (stage 2).
+
+The stimulus is the project's own (tb/core_stimulus.py, tb/bbit_stimulus.py,
+tb/top_stimulus.py, and the cocotb driver test's scenarios in tb/test_driver.py), at the sizes
+the vector regressions of ``make test`` use; the cocotb tests and the proof are those
+``make test`` runs on the same configuration.
+"""
+
+from __future__ import annotations
+
+import copy
+import random
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = ["BLOCKS", "DRIVER", "DRIVER_SCENARIOS", "Block", "CocotbTest", "Run"]
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT / "tb") not in sys.path:
+    sys.path.insert(0, str(ROOT / "tb"))      # the simulation harness and the stimulus
+
+#: one vector run: (name, inputs by port, expected outputs by port)
+Run = tuple[str, dict, dict]
+
+
+@dataclass(frozen=True)
+class CocotbTest:
+    """One cocotb test module run against the mutant (as ``make test`` runs it)."""
+
+    module: str
+    toplevel: str
+    params: dict
+    testcase: tuple[str, ...] | None = None
+
+
+@dataclass(frozen=True)
+class Block:
+    """A block under mutation.
+
+    ``build(formal)`` makes the component; ``toplevel`` is the module name its tests expect;
+    ``stimulus(seed)`` gives the vector runs of stage 1; ``cocotb`` and ``formal_depth`` the
+    tests of stage 2 (``formal_depth`` None: no proof of the block as a whole)."""
+
+    name: str
+    title: str
+    toplevel: str
+    build: Callable[[bool], object]
+    stimulus: Callable[[int], list[Run]]
+    cocotb: tuple[CocotbTest, ...] = ()
+    formal_depth: int | None = None
+    #: fault classes of the make-test sample: class -> source lines (``file:line``) to draw from
+    classes: dict = field(default_factory=dict)
+
+
+def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
+    from core_stimulus import SCENARIOS, generate
+    from mdfqm_spec.contract import Contract
+
+    contract = Contract(3, 16)
+    runs = []
+    for scenario in SCENARIOS:       # tb/test_core_vectors.py: 200 000 clocks a scenario
+        stim, expected = generate(random.Random(f"{seed}-{scenario}"), scenario, contract,
+                                  "largest_duty", cycles)
+        runs.append((scenario, stim, expected))
+    return runs
+
+
+def _generator_runs(seed: int, cycles: int = 30_000) -> list[Run]:
+    from bbit_stimulus import SCENARIOS, generate
+    from mdfqm_spec.contract import Contract
+
+    contract = Contract(3, 16)
+    runs = []
+    for scenario in SCENARIOS:       # tb/test_bbit_vectors.py: 30 000 clocks a scenario
+        stim, expected, _ = generate(random.Random(f"{seed}-{scenario}"), scenario, contract,
+                                     "largest_duty", 8, cycles,
+                                     bits_choices=tuple(range(1, 9)), segment=4000)
+        runs.append((scenario, stim, expected))
+    return runs
+
+
+#: the driver's configuration: three legs, both pin polarities (the upper side active low),
+#: the dead-time floor and width of the driver's own proof (tb/test_formal.py)
+DRIVER = {"phases": 3, "dead_min": 5, "time_width": 16, "upper_active_low": True,
+          "lower_active_low": False}
+#: tb/test_driver.py's cocotb tests, in their order, with their lengths
+DRIVER_SCENARIOS = (("random", 12000), ("fault_chatter", 4000), ("fault_in_dead_time", 3000),
+                    ("enable_mid_update", 3000), ("dead_change", 4000), ("min_pulse", 4000))
+
+
+def _driver_runs(seed: int) -> list[Run]:
+    """The cocotb driver test's scenarios (tb/test_driver.py ``generate``) as one vector run,
+    each led by the two reset clocks ``harness.start`` gives it (the driver keeps its dead time
+    in force and the fault synchroniser through a reset, so the scenarios follow one another in
+    one simulation, as in the cocotb test)."""
+    import test_driver
+    from mdfqm_model.driver import DRIVER_INPUTS, DRIVER_OUTPUTS, GateDriverModel
+
+    p = DRIVER
+    mask = (1 << p["phases"]) - 1
+    test_driver.CARRY.update(model=None, last=None)
+    stim = {name: [] for name in DRIVER_INPUTS}
+    expected = {name: [] for name in (*DRIVER_OUTPUTS, "up", "lo")}
+
+    def add(inputs, out):
+        for name in DRIVER_INPUTS:
+            stim[name].append(inputs[name])
+        for name in DRIVER_OUTPUTS:
+            expected[name].append(out[name])
+        expected["up"].append(out["upper"] ^ (mask if p["upper_active_low"] else 0))
+        expected["lo"].append(out["lower"] ^ (mask if p["lower_active_low"] else 0))
+
+    for k, (scenario, cycles) in enumerate(DRIVER_SCENARIOS):
+        carried = test_driver.CARRY["model"]
+        model = copy.deepcopy(carried) if carried is not None else GateDriverModel(
+            p["phases"], p["dead_min"], p["time_width"], p["upper_active_low"],
+            p["lower_active_low"])
+        last = test_driver.CARRY["last"] or {name: 0 for name in DRIVER_INPUTS}
+        for _ in range(2):               # harness.start: rst high two clocks, inputs held
+            inputs = {**last, "rst": 1}
+            add(inputs, model.step(**inputs))
+        rng = random.Random(f"{seed}-driver-{k}")
+        s, e, _ = test_driver.generate(rng, scenario, p, cycles)
+        for c in range(cycles):
+            add({name: s[name][c] for name in DRIVER_INPUTS},
+                {name: e[name][c] for name in DRIVER_OUTPUTS})
+    return [("scenarios", stim, expected)]
+
+
+def _top_runs(bus: str, runs: tuple[int, ...]):
+    def make(seed: int) -> list[Run]:
+        from mdfqm_gateware.top import MdfqmTop
+        from top_stimulus import top_stimulus
+
+        top = MdfqmTop(3, 16, bus=bus)
+        out = []
+        for k, cycles in enumerate(runs):
+            stim, expected, _ = top_stimulus(random.Random(f"{seed}-{bus}-{k}"), top, 3, 16,
+                                             cycles)
+            out.append((f"run{k}", stim, expected))
+        top._MustUse__used = True        # only its ports and parameters were read
+        return out
+    return make
+
+
+def _top_tests(bus: str) -> tuple[CocotbTest, ...]:
+    from mdfqm_spec import regmap
+
+    top = {"phases": 3, "width": 16, "rule": "largest_duty",
+           "dead_min": regmap.DEFAULT_DEAD_MIN, "upper_active_low": False,
+           "lower_active_low": False, "bus": bus, "counter_width": regmap.COUNTER_WIDTH}
+    singles = ("top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
+               "top_fault", "top_interrupt", "top_watchdog", "top_bad_input")
+    return (CocotbTest("test_top", "mdfqm_top",
+                       {**top, "max_bits": regmap.default_max_bits(16)}, singles),
+            CocotbTest("test_bus_models", "mdfqm_top_bus_models", top))
+
+
+def _blocks() -> dict[str, Block]:
+    from mdfqm_gateware.core import MdfqmCore
+    from mdfqm_gateware.driver import GateDriver
+    from mdfqm_gateware.generator import GatingSignalGenerator
+    from mdfqm_gateware.top import MdfqmTop
+    from mdfqm_spec.contract import sorting_network
+
+    depth = len(sorting_network(3)) + 2        # as tb/test_formal.py
+    d = DRIVER
+    core_params = {"phases": 3, "width": 16, "rule": "largest_duty"}
+    blocks = [
+        Block("core", "core (MdfqmCore, N=3, 16 bits)", "mdfqm_core",
+              lambda formal: MdfqmCore(3, 16, formal=formal), _core_runs,
+              (CocotbTest("test_core", "mdfqm_core", core_params),), depth),
+        Block("generator", "generator (GatingSignalGenerator, N=3, 16 bits, b<=8)",
+              "gating_signal_generator",
+              lambda formal: GatingSignalGenerator(3, 16, max_bits=8, formal=formal),
+              _generator_runs,
+              (CocotbTest("test_bbit", "gating_signal_generator", {**core_params,
+                                                                   "max_bits": 8}),), depth),
+        Block("driver", "gate driver (GateDriver, 3 legs, dead_min 5, upper active low)",
+              "gate_driver",
+              lambda formal: GateDriver(d["phases"], d["dead_min"], d["time_width"],
+                                        d["upper_active_low"], d["lower_active_low"],
+                                        formal=formal),
+              _driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
+        Block("top_wb", "top, Wishbone (MdfqmTop, the drop-in mdfqm_top_n3_w16)", "mdfqm_top",
+              lambda formal: MdfqmTop(3, 16, formal=formal),
+              _top_runs("wishbone", (225_000,) * 4), _top_tests("wishbone"), depth),
+        Block("top_axi", "top, AXI4-Lite (MdfqmTop bus=axi4lite, mdfqm_top_axil_n3_w16)",
+              "mdfqm_top", lambda formal: MdfqmTop(3, 16, bus="axi4lite", formal=formal),
+              _top_runs("axi4lite", (50_000,)), _top_tests("axi4lite"), depth),
+    ]
+    return {b.name: b for b in blocks}
+
+
+BLOCKS = _blocks()

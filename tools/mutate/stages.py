@@ -1,0 +1,350 @@
+"""The three stages a mutant goes through, stopping at the first failure (a kill):
+
+1. ``vector``: the block's vector stimulus in the compiled Verilator bench of tb/vectors.py
+   (:class:`MutantBench`, built once per block on the netlist of every mutant, ``+mutsel=k``),
+   every output every clock against the model's expected outputs;
+2. ``cocotb`` then ``formal``: the block's cocotb test modules (cocotb's runner on the same
+   netlist, built once per test module, ``+mutsel=k``), then the block's SymbiYosys proof
+   (:func:`formal.run_sby`, the one mutation applied to the proof's own netlist with its
+   properties kept);
+3. ``equivalence`` for the survivors: a miter of the mutant against the original (both from the
+   power-up state, the same inputs, every output compared every clock), in Yosys ``sat``:
+   temporal induction (``-tempinduct``) up to ``depth`` clocks. A counterexample: *not
+   equivalent* (a hole in the tests); the induction proven: *equivalent*; neither within the
+   depth or the time limit: *undecided*.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import re
+import shutil
+import subprocess
+import sys
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+from .netlist import FORMAL_PREFIX, ROOT, YOSYS, environment, short_src
+
+TB = ROOT / "tb"
+if str(TB) not in sys.path:
+    sys.path.insert(0, str(TB))
+
+from harness import PARAMS_ENV, verilator_build_env  # noqa: E402
+from vectors import VectorBench, pack_words  # noqa: E402
+from vectors import verilog_name as v  # noqa: E402
+
+__all__ = [
+    "MutantBench", "cocotb_build", "miter_verilog", "run_cocotb", "run_equivalence", "run_formal",
+    "run_vectors"
+]
+
+_RESULT = re.compile(r"RESULT cycles (\d+) mismatches (\d+)")
+
+
+@contextmanager
+def locked(path: Path):
+    """An exclusive lock on ``path`` (one builder of a shared directory at a time)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+# -------------------------------------------------------------------------------------------
+# stage 1: the vector-file path
+
+
+class MutantBench(VectorBench):
+    """tb/vectors.py's bench built once on a netlist of mutants (``source``: the mutants and
+    the wrapper that reads ``+mutsel``); :meth:`prepare` writes a block's vector files once,
+    :meth:`run_mutant` runs them on one mutant."""
+
+    def prepare(self, runs) -> list[dict]:
+        """Write the hex files of ``runs`` ((name, stimulus, expected) each), return what
+        :meth:`run_mutant` needs of each."""
+        prepared = []
+        for name, stim, expected in runs:
+            cycles = len(next(iter(stim.values())))
+            stim_path = self.directory / f"{name}.stim.hex"
+            want_path = self.directory / f"{name}.want.hex"
+            stim_path.write_text("\n".join(pack_words(stim, self.inputs, cycles)) + "\n")
+            want_path.write_text("\n".join(pack_words(expected, self.outputs, cycles)) + "\n")
+            prepared.append({"name": name, "cycles": cycles, "stim": str(stim_path),
+                             "want": str(want_path)})
+        return prepared
+
+
+def run_vectors(binary: str, prepared: list[dict], mutant: int) -> dict:
+    """Stage 1 for mutant ``mutant`` (0: the original): the runs in order, stopping at the
+    first with a mismatch. ``{"killed": bool, "detail": str, "cycles": checked}``."""
+    checked = 0
+    for run in prepared:
+        result = subprocess.run([binary, f"+stim={run['stim']}", f"+want={run['want']}",
+                                 f"+cycles={run['cycles']}", f"+mutsel={mutant}"],
+                                capture_output=True, text=True, cwd=Path(binary).parent)
+        match = _RESULT.search(result.stdout)
+        if result.returncode != 0 or match is None:
+            raise RuntimeError(f"vector simulation failed (mutant {mutant}):\n"
+                               f"{result.stdout[-2000:]}\n{result.stderr[-2000:]}")
+        checked += int(match.group(1))
+        if int(match.group(2)):
+            first = next((line for line in result.stdout.splitlines()
+                          if line.startswith("MISMATCH")), "")
+            return {"killed": True, "cycles": checked,
+                    "detail": f"{run['name']}: {match.group(2)} mismatches; {first}"}
+    return {"killed": False, "cycles": checked, "detail": f"{checked} clocks equal"}
+
+
+# -------------------------------------------------------------------------------------------
+# stage 2: cocotb tests and the proof
+
+
+def cocotb_build(source: Path, toplevel: str, build_dir: Path) -> None:
+    """Build the cocotb simulation of ``source`` (top ``toplevel``) once (locked; its output
+    in ``<build_dir>.log``)."""
+    stamp = build_dir / "built.stamp"
+    with locked(build_dir.parent / f"{build_dir.name}.lock"):
+        if stamp.exists() and stamp.read_text() == str(source.stat().st_mtime_ns):
+            return
+        spec = {"action": "build", "source": str(source), "toplevel": toplevel,
+                "build_dir": str(build_dir)}
+        build_dir.mkdir(parents=True, exist_ok=True)
+        result = subprocess.run([sys.executable, "-m", "tools.mutate.stages", json.dumps(spec)],
+                                capture_output=True, text=True, cwd=ROOT)
+        (build_dir.parent / f"{build_dir.name}.log").write_text(result.stdout + result.stderr)
+        if result.returncode != 0:
+            raise RuntimeError(f"cocotb build of {source} failed:\n{result.stderr[-3000:]}")
+        stamp.write_text(str(source.stat().st_mtime_ns))
+
+
+def run_cocotb(build_dir: Path, toplevel: str, module: str, params: dict,
+               testcase, mutant: int, work: Path, timeout: float, seed: int) -> dict:
+    """One cocotb test module on mutant ``mutant``, in a subprocess (a mutant can hang a
+    test). ``{"killed": bool, "detail": str}``; a timeout is a kill (the test suite fails)."""
+    work.mkdir(parents=True, exist_ok=True)
+    spec = {"build_dir": str(build_dir), "toplevel": toplevel, "module": module,
+            "params": params, "testcase": list(testcase) if testcase else None,
+            "mutant": mutant, "work": str(work), "seed": seed}
+    started = time.monotonic()
+    try:
+        result = subprocess.run([sys.executable, "-m", "tools.mutate.stages", json.dumps(spec)],
+                                capture_output=True, text=True, cwd=ROOT, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"killed": True, "detail": f"{module}: no end within {timeout:.0f} s (hangs)"}
+    seconds = time.monotonic() - started
+    match = re.search(r"COCOTB-MUTANT (\d+) (\d+)", result.stdout)
+    if match is None:
+        raise RuntimeError(f"cocotb run of mutant {mutant} ({module}) did not report:\n"
+                           f"{result.stdout[-3000:]}\n{result.stderr[-3000:]}")
+    total, failed = int(match.group(1)), int(match.group(2))
+    if total == 0:
+        raise RuntimeError(f"{module}: no cocotb test ran on mutant {mutant}")
+    if failed:
+        names = re.findall(r"(\w+) +FAIL", result.stdout)
+        return {"killed": True, "detail": f"{module}: {failed} of {total} tests failed "
+                                          f"({', '.join(names[:4])})"}
+    shutil.rmtree(work, ignore_errors=True)
+    return {"killed": False, "detail": f"{module}: {total} tests pass ({seconds:.0f} s)"}
+
+
+def _cocotb_child(spec: dict) -> None:
+    """The subprocess of :func:`run_cocotb` and :func:`cocotb_build`."""
+    from cocotb_tools.check_results import get_results
+    from cocotb_tools.runner import get_runner
+
+    verilator_build_env()
+    if spec.get("action") == "build":
+        get_runner("verilator").build(sources=[spec["source"]], hdl_toplevel=spec["toplevel"],
+                                      build_dir=spec["build_dir"], build_args=["-Wno-fatal"],
+                                      timescale=("1ns", "1ps"))
+        return
+    work = Path(spec["work"])
+    runner = get_runner("verilator")
+    runner.build_dir = Path(spec["build_dir"])
+    results = runner.test(test_module=spec["module"], hdl_toplevel=spec["toplevel"],
+                          hdl_toplevel_lang="verilog",
+                          build_dir=spec["build_dir"], test_dir=work,
+                          testcase=spec["testcase"], plusargs=[f"+mutsel={spec['mutant']}"],
+                          extra_env={PARAMS_ENV: json.dumps(spec["params"])},
+                          seed=spec["seed"],
+                          results_xml=str(work / "results.xml"))
+    total, failed = get_results(results)
+    print(f"COCOTB-MUTANT {total} {failed}", flush=True)
+
+
+def run_formal(component, name: str, depth: int, mutant_il: Path | None) -> dict:
+    """The block's proof (``prove`` task, tb/formal.py ``run_sby``) on ``mutant_il`` (the
+    proof's own netlist with the mutation, :func:`netlist.write_formal_mutant`; it replaces
+    the design after run_sby's ``prep``), or on the original flattened (None). A
+    counterexample is a kill; a proof that no longer closes by induction (no counterexample)
+    is a kill too (the test fails) and said so."""
+    from formal import run_sby
+
+    mutation = (("design -reset", f"read_rtlil {mutant_il}", "hierarchy -top dut")
+                if mutant_il else FORMAL_PREFIX)
+    try:
+        run_sby(component, name, depth, ("prove",), keep_failed=False, mutation=mutation)
+    except subprocess.TimeoutExpired:
+        return {"killed": True, "detail": "proof: no end within run_sby's time limit (the "
+                                          "test fails on it)"}
+    except AssertionError as error:
+        text = str(error)
+        if "DONE (ERROR" in text:
+            raise RuntimeError(f"the proof of {name} did not run:\n{text[-3000:]}") from error
+        if "BMC failed" in text or "FAIL for basecase" in text:
+            site = re.search(r"failed assertion \S+ at (\S+):(\d+) step (\d+)", text)
+            if site is None:
+                return {"killed": True, "detail": "proof: counterexample"}
+            return {"killed": True,
+                    "detail": f"proof: counterexample at step {site.group(3)}, "
+                              f"\"{assertion_message(site.group(1), int(site.group(2)))}\" "
+                              f"({short_src(site.group(1) + ':' + site.group(2))})"}
+        return {"killed": True, "detail": "proof: the induction no longer closes (no "
+                                          "counterexample from reset)"}
+    return {"killed": False, "detail": "proof passes"}
+
+
+def assertion_message(path: str, line: int) -> str:
+    """The message of the ``Assert`` whose call starts at ``path:line``."""
+    lines = Path(path).read_text().splitlines()
+    text = " ".join(lines[line - 1:line + 3])
+    match = re.search(r'"([^"]+)"', text)
+    return match.group(1) if match else "?"
+
+
+# -------------------------------------------------------------------------------------------
+# stage 3: equivalence
+
+
+def miter_verilog(module: str, ports, width: int, mutant: int) -> str:
+    """The miter (as mcy's): ``gold`` (mutsel 0) and ``gate`` (mutsel ``mutant``) on the same
+    inputs, reset in the first clock (as every test starts), every output compared in every
+    clock."""
+    inputs, outputs = ports
+    decl = ["input clk", *(f"input [{w - 1}:0] {v(n)}" for n, w in inputs)]
+    wires, checks, cells = [], [], []
+    for cell, value in (("gold", 0), ("gate", mutant)):
+        conns = [f".{v(n)}({v(n)})" for n in ["clk", *(n for n, _ in inputs)]]
+        for n, w in outputs:
+            wires.append(f"    wire [{w - 1}:0] {cell}_{n};")
+            conns.append(f".{v(n)}({cell}_{n})")
+        conns.append(f".mutsel({width}'d{value})")
+        cells.append(f"    {module} {cell}({', '.join(conns)});")
+    checks = [f"        assert (gold_{n} == gate_{n});" for n, _ in outputs]
+    return (f"module miter({', '.join(decl)});\n" + "\n".join(wires) + "\n"
+            + "\n".join(cells) + "\n"
+            "    reg first = 1'b1;\n"
+            "    always @(posedge clk) first <= 1'b0;\n"
+            "    always @* begin\n"
+            "        if (first) assume (rst);\n" + "\n".join(checks) + "\n"
+            "    end\nendmodule\n")
+
+
+#: Yosys's ``$equiv`` cell as an assertion (the base case of the equivalence proof)
+EQUIV_AS_ASSERT = """module \\$equiv (A, B, Y);
+    input A, B;
+    output Y;
+    assign Y = A;
+    always @* assert (A == B);
+endmodule
+"""
+
+
+def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width: int,
+                    mutant: int, depth: int, timeout: float) -> dict:
+    """Stage 3 (see the module docstring), in two steps, each one process:
+
+    1. a proof of equivalence with Yosys's ``equiv`` passes: the original (mutsel 0) and the
+       mutant, each flattened and optimised, every signal of one name in both paired
+       (``equiv_make``); every pair equal in the first two clocks from power-up with reset
+       in the first (``sat``, the base case) and every pair proven to stay equal
+       (``equiv_simple``, ``equiv_induct``: the induction step): *equivalent*;
+    2. otherwise a bounded check from reset, SymbiYosys ``bmc`` (the miter's two copies
+       combined by ``fmcombine``, yices) to ``depth`` clocks within ``timeout`` seconds: a
+       counterexample is *not equivalent*, none is *undecided*.
+
+    ``{"verdict": ..., "detail": str}``."""
+    work = Path(directory).resolve() / f"eq-{mutant}"
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    netlist = Path(netlist_il).resolve()
+    (work / "pair.v").write_text(plain_pair(module, ports, width, mutant))
+    (work / "equiv_assert.v").write_text(EQUIV_AS_ASSERT)
+    (work / "equiv.ys").write_text("\n".join([
+        "read_verilog -formal equiv_assert.v", "proc", "design -stash equivmap",
+        f"read_rtlil {netlist}", "read_verilog pair.v", "flatten gold gate",
+        f"delete {module}", "memory_map", "opt -full", "opt_clean -purge",
+        "equiv_make gold gate equiv", "hierarchy -top equiv", "design -save paired",
+        "techmap -map %equivmap t:$equiv", "chformal -lower", "opt_clean",
+        "sat -seq 2 -prove-asserts -set-at 1 rst 1 equiv", "design -load paired",
+        "equiv_simple -seq 1", "equiv_induct -seq 1", "equiv_status -assert"]) + "\n")
+    try:
+        subprocess.run([YOSYS, "-q", "-l", "equiv.log", "-s", "equiv.ys"], cwd=work,
+                       capture_output=True, text=True, timeout=timeout)
+        log = (work / "equiv.log").read_text()
+    except subprocess.TimeoutExpired:
+        log = ""
+    if ("SAT proof finished - no model found: SUCCESS!" in log
+            and "Equivalence successfully proven!" in log):
+        shutil.rmtree(work, ignore_errors=True)
+        return {"verdict": "equivalent",
+                "detail": "proven (Yosys equiv_make/equiv_simple/equiv_induct, base case by "
+                          "sat)"}
+    (work / "miter.sv").write_text(miter_verilog(module, ports, width, mutant))
+    prep = [f"read_rtlil {netlist}", "read_verilog -formal -sv miter.sv", "prep -top miter",
+            f"memory_map {module}", "opt -fast", "fmcombine -initeq miter gold gate",
+            "flatten", "opt -fast"]
+    (work / "eq.sby").write_text("\n".join([
+        "[options]", "mode bmc", f"depth {depth}", f"timeout {int(timeout)}", "",
+        "[engines]", "smtbmc --stbv yices", "", "[script]", *prep, "", "[files]",
+        "miter.sv", ""]))
+    started = time.monotonic()
+    try:
+        result = subprocess.run(["yowasp-sby", "-f", "eq.sby"], cwd=work, env=environment(),
+                                capture_output=True, text=True, timeout=timeout + 60)
+        text = result.stdout
+    except subprocess.TimeoutExpired as expired:
+        text = expired.stdout or ""
+        text = text.decode() if isinstance(text, bytes) else text
+    seconds = time.monotonic() - started
+    steps = [int(x) for x in re.findall(r"Checking assertions in step (\d+)", text)]
+    reached = max(steps, default=-1)
+    if "DONE (FAIL" in text:
+        trace = next(iter(sorted(work.glob("eq/engine_0/trace*.vcd"))), None)
+        where = trace.relative_to(ROOT) if trace else work.relative_to(ROOT)
+        return {"verdict": "not equivalent",
+                "detail": f"an output differs {reached} clocks after reset ({where})"}
+    if "DONE (PASS" in text:
+        return {"verdict": "undecided",
+                "detail": f"no difference within {depth} clocks of reset; not proven "
+                          "equivalent"}
+    return {"verdict": "undecided",
+            "detail": f"no difference within {max(reached, 0)} clocks of reset (the bounded "
+                      f"check stopped at {seconds:.0f} s); not proven equivalent"}
+
+
+def plain_pair(module: str, ports, width: int, mutant: int) -> str:
+    """``gold`` (mutsel 0) and ``gate`` (mutsel ``mutant``) with the block's ports, for Yosys
+    ``miter``."""
+    inputs, outputs = ports
+    out = []
+    for name, value in (("gold", 0), ("gate", mutant)):
+        decl = ["input clk", *(f"input [{w - 1}:0] {v(n)}" for n, w in inputs),
+                *(f"output [{w - 1}:0] {v(n)}" for n, w in outputs)]
+        conns = [f".{v(n)}({v(n)})" for n in ["clk", *(n for n, _ in inputs),
+                                                 *(n for n, _ in outputs)]]
+        out.append(f"module {name}({', '.join(decl)});\n"
+                   f"    {module} u({', '.join(conns)}, .mutsel({width}'d{value}));\n"
+                   "endmodule\n")
+    return "\n".join(out)
+
+
+if __name__ == "__main__":
+    _cocotb_child(json.loads(sys.argv[1]))

@@ -1,0 +1,105 @@
+# amaranth: UnusedElaboratable=no
+"""tools/mutate without a campaign: mutation keys name source and kind and come back to the same
+cell, a flop's mutated bit keeps its power-up value, the wrapper and the miter have the block's
+ports, the report reads a counterexample and tallies a database. The campaign itself is
+``make mutate``; its sample in ``make test`` is tb/test_mutation_sample.py."""
+
+from pathlib import Path
+
+import pytest
+
+from mdfqm_gateware.driver import GateDriver
+from tools.mutate import campaign, netlist, report, stages
+from tools.mutate.netlist import BlockNetlist, CellIndex, split_cell, switch_sources
+
+BUILD = netlist.ROOT / "build" / "mutate" / "unit"
+
+
+@pytest.fixture(scope="module")
+def driver_netlist():
+    return BlockNetlist(GateDriver(2, 3, 6, True, False, formal=True), BUILD / "driver")
+
+
+def test_cell_names_split_into_scope_and_local_name():
+    assert split_cell("$flatten\\core.\\sort1.$45") == ("core.sort1", "$45")
+    assert split_cell("$flatten\\leg0.$procmux$85") == ("leg0", "$procmux$85")
+    assert split_cell("$12") == ("", "$12")
+
+
+def test_short_src_is_relative_to_the_repository():
+    assert netlist.short_src(f"{netlist.ROOT}/rtl/mdfqm_gateware/top.py:12") == \
+        "rtl/mdfqm_gateware/top.py:12"
+    assert netlist.short_src("/x/lib/python3.11/site-packages/amaranth/lib/cdc.py:102.3-4") \
+        == "amaranth/lib/cdc.py:102"
+
+
+def test_switches_take_their_process_source():
+    text = ('  attribute \\src "a.py:3"\n  process $1\n    switch \\x\n      case 1\'1\n'
+            "    end\n  end\n")
+    out = switch_sources(text).splitlines()
+    assert out[2] == '    attribute \\src "a.py:3"' and out[3] == "    switch \\x"
+
+
+def test_keys_name_source_and_kind_and_resolve_to_the_same_cell(driver_netlist):
+    mutations = driver_netlist.sample(30, 3)
+    assert len({m.key for m in mutations}) == len(mutations) == 30
+    for m in mutations:
+        assert m.key.startswith(("rtl/", "amaranth/")), m.key
+        assert "$" not in m.key.split(" ")[0]
+        again = driver_netlist.index.resolve(m.key)
+        assert (again.cell, again.port, again.bit, again.mode, again.ctrlbit) == \
+            (m.cell, m.port, m.bit, m.mode, m.ctrlbit)
+    with pytest.raises(KeyError):
+        driver_netlist.index.resolve("rtl/x.py:1 top $and#0 Y[0] inv")
+
+
+def test_a_mutated_flop_bit_keeps_its_power_up_value(driver_netlist):
+    index = CellIndex(driver_netlist.directory / "sim.json")
+    flops = [(cell, bit) for (cell, bit), value in index.ff_init.items() if value == "1"]
+    assert flops, "the leg's count register powers up at 1"
+    cell, bit = flops[0]
+    assert index.init(cell, "Q", bit) == "1" and index.init(cell, "D", bit) is None
+    m = netlist.Mutation("k", cell, "inv", "Q", bit, None, "", (), "1")
+    assert m.commands()[1].startswith("setattr -set init 1'1 dut/c:")
+
+
+def test_the_mutants_netlist_and_its_wrapper(driver_netlist):
+    mutations = driver_netlist.sample(5, 1)
+    path = driver_netlist.write_mutants(mutations, "drv_mutants")
+    text = path.read_text()
+    assert "module drv_mutants" in text and "mutsel" in text
+    ports = ([("rst", 1), ("h", 2)], [("event", 2), ("upper", 2)])
+    wrap = netlist.wrapper("gate_driver", "drv_mutants", ports, netlist.mutsel_width(5))
+    assert "output [1:0] \\event ," in wrap and ".mutsel(mutsel)" in wrap
+    assert "input [2:0]" not in wrap and "reg [2:0] mutsel;" in wrap
+    miter = stages.miter_verilog("drv_mutants", ports, 3, 4)
+    assert ".mutsel(3'd0)" in miter and ".mutsel(3'd4)" in miter
+    assert "assert (gold_event == gate_event);" in miter and "assume (rst);" in miter
+
+
+def test_the_first_difference_of_a_counterexample(tmp_path):
+    vcd = tmp_path / "trace.vcd"
+    vcd.write_text("$scope module miter $end\n$var wire 2 ! gold_upper $end\n"
+                   "$var wire 2 \" gate_upper $end\n$upscope $end\n$enddefinitions $end\n"
+                   "#0\nb00 !\nb00 \"\n#5\n#10\nb01 !\nb11 \"\n#15\n")
+    assert report.first_difference(Path(vcd)) == "upper: original 1, mutant 3, clock 1"
+
+
+def test_tallies_and_the_summary_line():
+    results = {"a": {"status": "killed", "stage": "vector"},
+               "b": {"status": "killed", "stage": "formal"},
+               "c": {"status": "equivalent", "stage": "equivalence"},
+               "d": {"status": "survived", "stage": "equivalence"}}
+    tally = campaign.counts(results)
+    assert tally == {"tried": 4, "killed": 2, "vector": 1, "cocotb": 0, "formal": 1,
+                     "equivalent": 1, "undecided": 0, "survived": 1}
+    line = campaign.summary_line({"driver": tally}, 120)
+    assert "4 mutants: 2 killed (vector 1, cocotb 0, formal 1), 1 equivalent" in line
+    assert "66.7 % of the non-equivalent killed; 2.0 min" in line
+
+
+def test_the_regions_with_a_full_target_are_found_in_the_source():
+    zones = report.regions()
+    assert any("fronts.py" in line for line in zones["register write decode"])
+    assert any("top.py" in line for line in zones["register write decode"])
+    assert any("driver.py" in line for line in zones["fault path"])
