@@ -15,6 +15,9 @@ Scenarios:
   zero state depends on the layout's last slot;
 - ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
   in random modes;
+- ``limits``: every setting at its ends and at the values its clamp changes: period 0, 1, the
+  minimum and now and then a long one up to 2**16 - 1; OSR 0, 1, 254, 255; mode 0-7 (5-7
+  illegal); bits 0, 1, max_bits, max_bits + 1, 15; extreme codes and overmodulation;
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
   ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
 """
@@ -22,7 +25,15 @@ Scenarios:
 import math
 
 import core_stimulus
-from core_stimulus import extreme_codes, linear_amplitude, sine_codes
+from core_stimulus import (
+    PERIOD_MAX,
+    extreme_codes,
+    limit_osr,
+    limit_period,
+    linear_amplitude,
+    sine_codes,
+    sync_delay,
+)
 from harness import pack
 from mdfqm_model.clock import GeneratorModel
 from mdfqm_spec.contract import MODES, min_period
@@ -30,7 +41,12 @@ from mdfqm_spec.contract import MODES, min_period
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
            "mode_in_force": "mode_in_force", "bits_in_force": "bits_in_force"}
-SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes")
+SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes", "limits")
+#: clocks of a ``limits`` run with room for an update at the largest period (2**16 - 1)
+LIMITS_CYCLES = 150_000
+#: chance of a reset, of a sync pulse in a clock, per scenario (``limits`` as in core_stimulus)
+RESETS = {"switch": 0.0005}
+SYNCS = {"switch": 0.02, "limits": 0.0005}
 INPUTS = ("rst", "ref__valid", "ref__payload", "period", "osr", "zero_policy", "sync_in",
           "mode", "bits")
 
@@ -63,7 +79,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     osr, policy = rng.choice([1, 2, 4]), rng.randint(0, 1)
     angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
     amplitude, offset = 0.9 * lin, 0.0
-    offered = None
+    offered, longest, holding, sync_at = None, 0, False, -1
     next_change = rng.randint(1, segment)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in OUTPUTS}
@@ -84,6 +100,18 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                 amplitude = rng.uniform(1.0, 2.0) * lin
                 offset = rng.uniform(-0.5, 0.5)
             period = _period_for(rng, model, mode, bits)
+            if scenario == "limits":
+                mode = rng.choice([*range(len(MODES)), rng.randint(len(MODES), 7)])
+                bits = rng.choice([0, 1, max_bits, max_bits + 1, 15, rng.choice(bits_choices)])
+                if not holding:          # the largest period is held until an update takes it
+                    period = limit_period(rng, model.long_latency,
+                                          cycles - cycle - 2 * model.long_latency, longest)
+                    if period != PERIOD_MAX and rng.random() < 0.5:
+                        period = _period_for(rng, model, min(mode, len(MODES) - 1),
+                                             min(max(bits, 1), max_bits))
+                    longest, holding = max(longest, period), period == PERIOD_MAX
+                osr = limit_osr(rng)
+                amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
         if scenario == "switch" and rng.random() < 1 / 150:
             mode = rng.choice([0, 0, 1, 2, 3, 4, rng.randint(0, 7)])
             bits = rng.choice([*bits_choices, rng.randint(0, 15)])
@@ -97,15 +125,16 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             policy = int(rng.random() < 0.8)
             period = rng.choice([0, model.long_latency, model.long_latency + 3])
             amplitude = rng.uniform(0.0, 0.4) * lin
-        if scenario == "switch" and rng.random() < 0.0005:
+        if scenario in RESETS and rng.random() < RESETS[scenario]:
             rst = 1                                   # reset mid-run
         if offered is None and rng.random() < 0.7:    # idle gaps between beats
             angle += step
-            if scenario == "extremes":
+            if scenario == "extremes" or (scenario == "limits" and rng.random() < 0.5):
                 offered = extreme_codes(rng, contract, n)
             else:
                 offered = sine_codes(contract, amplitude, angle, offset)
-        sync_in = int(scenario == "switch" and rng.random() < 0.02)
+        sync_in = int((scenario in SYNCS and (scenario != "limits" or cycle > cycles // 2)
+                      and rng.random() < SYNCS[scenario]) or cycle == sync_at)
         valid = int(offered is not None)
         payload = offered or [0] * n
         trace["mode"].append(model.mode_lat)        # the registers visible in this cycle
@@ -114,6 +143,9 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                          zero_policy=policy, sync_in=sync_in, mode=mode, bits=bits)
         if valid and out["ref_ready"] and not rst:
             offered = None
+        holding = holding and not out["start"]
+        if scenario == "limits" and out["start"] and cycle > cycles // 2:
+            sync_at = sync_delay(rng, cycle)
         for name, value in (("rst", rst), ("ref__valid", valid),
                             ("ref__payload", pack(payload, contract.width)), ("period", period),
                             ("osr", osr), ("zero_policy", policy), ("sync_in", sync_in),

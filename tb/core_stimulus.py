@@ -12,7 +12,14 @@ from harness import pack
 from mdfqm_model.clock import CoreModel
 
 #: every scenario generate() knows
-SCENARIOS = ("sine", "overmod", "runtime", "ties", "extremes")
+SCENARIOS = ("sine", "overmod", "runtime", "ties", "extremes", "limits")
+#: the largest value of each runtime setting port (their widths in the contract)
+PERIOD_MAX, OSR_MAX = (1 << 16) - 1, (1 << 8) - 1
+#: chance of a reset, of a sync pulse in a clock, per scenario; ``limits``: no reset (it would cut
+#: its long updates short), syncs in its second half only (the longest update has run by then:
+#: the syncs restart long updates at any phase)
+RESETS = {"runtime": 0.002}
+SYNCS = {"runtime": 0.05, "limits": 0.0005}
 
 OUTPUTS = {"ref__ready": "ref_ready", "start": "start", "h": "h", "update": "update",
            "sample": "sample", "saturated": "saturated", "period_clamped": "period_clamped"}
@@ -34,6 +41,36 @@ def extreme_codes(rng, contract, phases):
     return [rng.choice([contract.code_min, contract.code_max, 0, -1, 1]) for _ in range(phases)]
 
 
+def limit_period(rng, latency, room, longest_yet=0):
+    """A period of the ``limits`` scenario: 0, 1 and around the latency (the clamp's edge), and
+    now and then a long one, up to ``PERIOD_MAX``, when the run has ``room`` clocks left for it
+    to end in (every bit of the update's count-down set at some time). ``PERIOD_MAX`` itself
+    once the run is a quarter through, if ``longest_yet`` is below it and there is room."""
+    if longest_yet < PERIOD_MAX and PERIOD_MAX + 4 * latency < room < 3 * PERIOD_MAX:
+        return PERIOD_MAX
+    if room > 4 * latency and rng.random() < 0.2:
+        longest = min(PERIOD_MAX, room)
+        return rng.choice([longest, rng.randint(longest // 2, longest),
+                           (1 << rng.randint(2, longest.bit_length() - 1)) + rng.randint(0, 2)])
+    return rng.choice([0, 1, latency - 1, latency, latency + 1, 2 * latency + 3])
+
+
+def sync_delay(rng, start):
+    """The clock of the sync pulse the ``limits`` scenario aims into the update that starts at
+    ``start`` (-1: none): at a power of two of its phase, give or take a few clocks (a stuck or
+    inverted bit of the phase counter changes whether the sync restarts the update)."""
+    if rng.random() < 0.5:
+        return -1
+    return start + (1 << rng.randint(2, 15)) + rng.randint(-2, 9)
+
+
+def limit_osr(rng):
+    """An OSR of the ``limits`` scenario: 0 (taken as 1), 1, 2, the largest ones, a power of
+    two (one bit set: a stuck or inverted bit of the OSR's tests shows)."""
+    return rng.choice([0, 1, 2, OSR_MAX - 1, OSR_MAX, rng.randint(0, OSR_MAX),
+                       1 << rng.randint(0, 7)])
+
+
 def linear_amplitude(phases):
     """Largest sine amplitude (Vdc) inside the linear range max(v) - min(v) <= 1."""
     spread = max(math.cos(2 * math.pi * i / phases) for i in range(phases)) - min(
@@ -52,7 +89,7 @@ def generate(rng, scenario, contract, rule, cycles):
     period, osr, policy = latency, 4, 0
     angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
     amplitude, offset = 0.9 * lin, 0.0
-    offered = None
+    offered, longest, holding, sync_at = None, 0, False, -1
     stim = {"rst": [], "ref__valid": [], "ref__payload": [], "period": [], "osr": [],
             "zero_policy": [], "sync_in": []}
     expected = {name: [] for name in OUTPUTS}
@@ -71,11 +108,17 @@ def generate(rng, scenario, contract, rule, cycles):
                 amplitude = rng.uniform(1.0, 2.0) * lin
                 offset = rng.uniform(-0.5, 0.5)
                 policy = rng.randint(0, 1)
-        if scenario == "runtime" and rng.random() < 0.002:
+            if scenario == "limits":
+                if not holding:          # the largest period is held until an update takes it
+                    period = limit_period(rng, latency, cycles - cycle - 2 * latency, longest)
+                    longest, holding = max(longest, period), period == PERIOD_MAX
+                osr, policy = limit_osr(rng), rng.randint(0, 1)
+                amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
+        if scenario in RESETS and rng.random() < RESETS[scenario]:
             rst = 1                                       # reset mid-run
         if offered is None and rng.random() < 0.7:       # idle gaps between beats
             angle += step
-            if scenario == "extremes":
+            if scenario == "extremes" or (scenario == "limits" and rng.random() < 0.5):
                 offered = extreme_codes(rng, contract, n)
             elif scenario == "ties":
                 level = rng.randint(contract.code_min, contract.code_max)
@@ -84,13 +127,17 @@ def generate(rng, scenario, contract, rule, cycles):
                 offered = sine_codes(contract, amplitude, angle, offset)
             if scenario in ("ties", "extremes"):
                 policy = rng.randint(0, 1)
-        sync_in = int(scenario == "runtime" and rng.random() < 0.05)
+        sync_in = int((scenario in SYNCS and (scenario != "limits" or cycle > cycles // 2)
+                      and rng.random() < SYNCS[scenario]) or cycle == sync_at)
         valid = int(offered is not None)
         payload = offered or [0] * n
         out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
                          zero_policy=policy, sync_in=sync_in)
         if valid and out["ref_ready"] and not rst:
             offered = None
+        holding = holding and not out["start"]
+        if scenario == "limits" and out["start"] and cycle > cycles // 2:
+            sync_at = sync_delay(rng, cycle)
         stim["rst"].append(rst)
         stim["ref__valid"].append(valid)
         stim["ref__payload"].append(pack(payload, contract.width))

@@ -1,14 +1,15 @@
 """The gating-signal generator through the vector-file path (tb/vectors.py: no Python per
 cycle), >= 2*10**5 checked cycles, every output every cycle against GeneratorModel: every
 scenario of bbit_stimulus (each mode, random switches, overmodulation, extreme codes) with b
-anywhere in [1, max_bits]."""
+anywhere in [1, max_bits]; and the ``limits`` scenario long enough for an update at the
+largest period."""
 
 import os
 import random
 
 import pytest
 
-from bbit_stimulus import SCENARIOS, generate
+from bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_spec.contract import Contract
 from vectors import VectorBench
@@ -45,3 +46,19 @@ def test_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario):
                                                   cycles_per_scenario, seed)
     assert mismatches == 0, f"seed {seed}: {mismatches} mismatches\n" + "\n".join(details)
     assert total == cycles_per_scenario * len(SCENARIOS)
+
+
+def test_bbit_limits_vectors():
+    """Every setting at its ends, the period up to 2**16 - 1 (the count-downs' top bits)."""
+    seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
+    print(f"bbit limits vectors: seed {seed} (replay with SEED={seed})")
+    contract = Contract(3, 16)
+    bench = VectorBench(GatingSignalGenerator(3, 16, "largest_duty", 8),
+                        "gating_signal_generator", "n3-w16-largest_duty-b8")
+    stim, expected, _ = generate(random.Random(f"{seed}-limits"), "limits", contract,
+                                 "largest_duty", 8, LIMITS_CYCLES, bits_choices=tuple(range(1, 9)),
+                                 segment=4000)
+    assert max(stim["period"]) == (1 << 16) - 1 and max(stim["osr"]) == 255
+    result = bench.run(stim, expected, name="limits")
+    assert result["cycles"] == LIMITS_CYCLES
+    assert result["mismatches"] == 0, f"seed {seed}:\n" + "\n".join(result["first"])

@@ -70,7 +70,7 @@ def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
 
 
 def _generator_runs(seed: int, cycles: int = 30_000) -> list[Run]:
-    from bbit_stimulus import SCENARIOS, generate
+    from bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
     from mdfqm_spec.contract import Contract
 
     contract = Contract(3, 16)
@@ -80,6 +80,11 @@ def _generator_runs(seed: int, cycles: int = 30_000) -> list[Run]:
                                      "largest_duty", 8, cycles,
                                      bits_choices=tuple(range(1, 9)), segment=4000)
         runs.append((scenario, stim, expected))
+    # tb/test_bbit_vectors.py's limits run, long enough for the largest period
+    stim, expected, _ = generate(random.Random(f"{seed}-limits"), "limits", contract,
+                                 "largest_duty", 8, max(cycles, LIMITS_CYCLES),
+                                 bits_choices=tuple(range(1, 9)), segment=4000)
+    runs.append(("limits-long", stim, expected))
     return runs
 
 

@@ -14,6 +14,7 @@ import contextlib
 import hashlib
 import json
 import os
+import random
 import signal
 import sys
 import time
@@ -25,6 +26,7 @@ from .netlist import ROOT, BlockNetlist, Mutation, mutsel_width, wrapper, write_
 from .stages import (
     MutantBench,
     cocotb_build,
+    mutated_bits,
     run_cocotb,
     run_equivalence,
     run_formal,
@@ -32,7 +34,7 @@ from .stages import (
 )
 
 __all__ = [
-    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "STAGES", "BlockCampaign", "Settings", "counts",
+    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "STAGES", "BlockCampaign", "Settings", "counts",
     "evaluate", "run", "summary_line"
 ]
 
@@ -40,6 +42,9 @@ BUILD = ROOT / "build" / "mutate"
 STAGES = ("vector", "cocotb", "formal", "equivalence")
 #: mutations drawn per block by default: the whole campaign in about an hour on two cores
 DEFAULT_COUNTS = {"core": 150, "generator": 120, "driver": 150, "top_wb": 150, "top_axi": 100}
+#: extra mutations per region with a 100 % target (the fault path, the register write decode)
+#: drawn in the blocks that hold them (:meth:`BlockCampaign._focused`)
+FOCUS = {"driver": 10, "top_wb": 20, "top_axi": 10}
 #: depth (clocks after reset) of the equivalence check's bounded part, per block
 EQ_DEPTH = {"core": 24, "generator": 24, "driver": 24, "top_wb": 20, "top_axi": 20}
 
@@ -55,7 +60,7 @@ class Settings:
     resume: bool = False
     only: tuple[str, ...] = ()
     stages: tuple[str, ...] = STAGES
-    eq_timeout: float = 60.0
+    eq_timeout: float = 30.0
     cocotb_timeout: float = 900.0
     progress: bool = True
     #: with resume: run the equivalence stage again on the survivors and undecided mutants
@@ -81,11 +86,34 @@ class BlockCampaign:
             self.mutations = self.netlist.resolve(settings.only)
         else:
             self.mutations = self.netlist.sample(settings.counts[block.name], settings.seed)
+            self.mutations += self._focused(settings.seed, settings.counts[block.name])
         self.db_path = self.directory / "results.json"
         self.results = self._load()
         self.baseline = self._loaded_baseline
         self.module = f"{block.name}_mutants"
         self.width = mutsel_width(len(self.mutations))
+
+    def _focused(self, seed: int, count: int) -> list[Mutation]:
+        """Mutations of the logic with a 100 % target (:func:`report.regions`: the fault path,
+        the register file's write decode) beyond the even sample's share of them:
+        ``FOCUS[block]`` per region, a seeded choice among every mutation ``mutate`` knows
+        there, scaled with ``count`` as the sample is."""
+        from .report import in_region, regions
+
+        per_region = FOCUS.get(self.block.name, 0) * count // DEFAULT_COUNTS[self.block.name]
+        if not per_region:
+            return []
+        drawn = {m.key for m in self.mutations}
+        every = self.netlist.sample(100000, seed)
+        rng = random.Random(f"{seed}-focus-{self.block.name}")
+        extra = []
+        for _, lines in sorted(regions().items()):
+            pool = [m for m in every if m.key not in drawn
+                    and in_region({"src": m.src}, lines)]
+            chosen = rng.sample(pool, min(per_region, len(pool)))
+            extra += chosen
+            drawn |= {m.key for m in chosen}
+        return extra
 
     # ---------------------------------------------------------------- database
     def _load(self) -> dict:
@@ -246,7 +274,9 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
                         f"stimulus, other seeds) differs: {result['detail']}")
         result = run_equivalence(directory, directory / "mutants.il", context["module"],
                                  context["ports"], context["width"], mutant,
-                                 context["eq_depth"], context["eq_timeout"])
+                                 context["eq_depth"], context["eq_timeout"],
+                                 tuple(mutated_bits(directory / "sim.json", mutation["cell"],
+                                                    mutation["port"], mutation["bit"])))
         record["log"].append(f"equivalence: {result['detail']}")
         status = {"equivalent": "equivalent", "not equivalent": "survived",
                   "undecided": "undecided"}[result["verdict"]]

@@ -21,7 +21,7 @@ from .campaign import BUILD, EQ_DEPTH, counts
 from .netlist import ROOT
 from .netlist import location as netlist_location
 
-__all__ = ["first_difference", "regions", "write_report"]
+__all__ = ["first_difference", "in_region", "regions", "write_report"]
 
 #: kill-rate targets (per cent of the non-equivalent mutants)
 TARGET_BLOCK = 95.0
@@ -60,6 +60,7 @@ def regions() -> dict[str, set[str]]:
         for i, text in enumerate((ROOT / path).read_text().splitlines(), 1):
             if "fault" in text.lower() and not text.strip().startswith("#"):
                 fault.add(f"{path}:{i}")
+    fault.add("amaranth/lib/cdc.py:*")       # the fault input's synchroniser (its only use)
     decode |= _section("rtl/mdfqm_gateware/top.py", "-- register port",
                        "self._modulation(")
     front = "rtl/mdfqm_gateware/fronts.py"
@@ -72,10 +73,10 @@ def regions() -> dict[str, set[str]]:
 
 
 def in_region(mutation: dict, lines: set[str]) -> bool:
+    """Whether a mutation's source lines meet ``lines`` (``file:*``: every line of a file)."""
     src = {s.rstrip("~") for s in mutation["src"]}
-    if "fault" in str(lines) and any(s.startswith("amaranth/lib/cdc.py") for s in src):
-        return True                    # the fault input's two-flop synchroniser
-    return bool(src & lines)
+    files = {line[:-2] for line in lines if line.endswith(":*")}
+    return bool(src & lines) or any(s.rpartition(":")[0] in files for s in src)
 
 
 def first_difference(trace: Path) -> str:

@@ -37,8 +37,8 @@ from vectors import VectorBench, pack_words  # noqa: E402
 from vectors import verilog_name as v  # noqa: E402
 
 __all__ = [
-    "MutantBench", "cocotb_build", "miter_verilog", "run_cocotb", "run_equivalence", "run_formal",
-    "run_vectors"
+    "MutantBench", "cocotb_build", "miter_verilog", "mutated_bits", "run_cocotb",
+    "run_equivalence", "run_formal", "run_vectors",
 ]
 
 _RESULT = re.compile(r"RESULT cycles (\d+) mismatches (\d+)")
@@ -256,15 +256,72 @@ endmodule
 """
 
 
+#: cells whose output bit ``i`` reads input bit ``i`` only (``$mux``: of ``A`` and ``B``)
+BITWISE = {"$not", "$pos", "$and", "$or", "$xor", "$xnor", "$mux"}
+
+
+def mutated_bits(netlist_json: Path, cell: str, port: str, bit: int) -> list[str]:
+    """The public wire bits (``name[i]``) of ``netlist_json`` (``write_json`` of ``sim.il``)
+    where a mutation of ``cell``'s ``port`` bit ``bit`` first shows: the bit itself on an output
+    port, else the cell's outputs, followed through logic with internal (``$``) names only,
+    bit by bit through flip-flops and bitwise cells. The equivalence check leaves these
+    unpaired: pairing them would assume away the very difference."""
+    module = json.loads(Path(netlist_json).read_text())["modules"]["dut"]
+    public = {}
+    for name, net in module["netnames"].items():
+        if not name.startswith("$"):
+            for i, b in enumerate(net["bits"]):
+                if isinstance(b, int):
+                    public.setdefault(b, f"{name}[{i}]")
+    readers = {}
+    for name, info in module["cells"].items():
+        for p, bits in info["connections"].items():
+            if info.get("port_directions", {}).get(p) == "input":
+                for i, b in enumerate(bits):
+                    readers.setdefault(b, []).append((name, p, i))
+
+    def outputs(name: str, p: str, i: int) -> list[int]:
+        info = module["cells"][name]
+        kind, conns = info["type"], info["connections"]
+        if "dff" in kind and "Q" in conns:
+            return [conns["Q"][i]] if p == "D" else list(conns["Q"])
+        outs = [b for q, bits in conns.items()
+                if info.get("port_directions", {}).get(q) == "output" for b in bits]
+        if kind in BITWISE and p in ("A", "B") and len(conns.get("Y", [])) == len(conns[p]):
+            return [conns["Y"][i]]
+        return outs
+
+    info = module["cells"][cell]
+    start = ([info["connections"][port][bit]]
+             if info.get("port_directions", {}).get(port) == "output"
+             else outputs(cell, port, bit))
+    found, seen, todo = set(), set(), [b for b in start if isinstance(b, int)]
+    while todo:
+        b = todo.pop()
+        if b in seen:
+            continue
+        seen.add(b)
+        if b in public:
+            found.add(public[b])
+            continue
+        for name, p, i in readers.get(b, []):
+            todo += [o for o in outputs(name, p, i) if isinstance(o, int)]
+    return sorted(found)
+
+
 def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width: int,
-                    mutant: int, depth: int, timeout: float) -> dict:
+                    mutant: int, depth: int, timeout: float, changed: tuple[str, ...] = ()
+                    ) -> dict:
     """Stage 3 (see the module docstring), in two steps, each one process:
 
     1. a proof of equivalence with Yosys's ``equiv`` passes: the original (mutsel 0) and the
        mutant, each flattened and optimised, every signal of one name in both paired
-       (``equiv_make``); every pair equal in the first two clocks from power-up with reset
-       in the first (``sat``, the base case) and every pair proven to stay equal
-       (``equiv_simple``, ``equiv_induct``: the induction step): *equivalent*;
+       (``equiv_make``, the wires split into bits) but the bits where the mutation shows
+       (``changed``, from :func:`mutated_bits`: pairing them would assume away the very
+       difference, and a mutation no output sees could never be proven); every pair equal in
+       the first two clocks from power-up with reset in the first (``sat``, the base case) and every
+       pair proven to stay equal (``equiv_simple``, ``equiv_induct``: the induction step):
+       *equivalent*;
     2. otherwise a bounded check from reset, SymbiYosys ``bmc`` (the miter's two copies
        combined by ``fmcombine``, yices) to ``depth`` clocks within ``timeout`` seconds: a
        counterexample is *not equivalent*, none is *undecided*.
@@ -277,11 +334,13 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
     netlist = Path(netlist_il).resolve()
     (work / "pair.v").write_text(plain_pair(module, ports, width, mutant))
     (work / "equiv_assert.v").write_text(EQUIV_AS_ASSERT)
+    (work / "unpaired.txt").write_text("".join(f"u.{name}\n" for name in changed))
     (work / "equiv.ys").write_text("\n".join([
         "read_verilog -formal equiv_assert.v", "proc", "design -stash equivmap",
         f"read_rtlil {netlist}", "read_verilog pair.v", "flatten gold gate",
-        f"delete {module}", "memory_map", "opt -full", "opt_clean -purge",
-        "equiv_make gold gate equiv", "hierarchy -top equiv", "design -save paired",
+        f"delete {module}", "memory_map", "opt -full", "opt_clean -purge", "splitnets",
+        "equiv_make -blacklist unpaired.txt gold gate equiv", "hierarchy -top equiv",
+        "design -save paired",
         "techmap -map %equivmap t:$equiv", "chformal -lower", "opt_clean",
         "sat -seq 2 -prove-asserts -set-at 1 rst 1 equiv", "design -load paired",
         "equiv_simple -seq 1", "equiv_induct -seq 1", "equiv_status -assert"]) + "\n")

@@ -103,3 +103,20 @@ def test_the_regions_with_a_full_target_are_found_in_the_source():
     assert any("fronts.py" in line for line in zones["register write decode"])
     assert any("top.py" in line for line in zones["register write decode"])
     assert any("driver.py" in line for line in zones["fault path"])
+    assert report.in_region({"src": ["amaranth/lib/cdc.py:102"]}, zones["fault path"])
+    assert not report.in_region({"src": ["amaranth/lib/cdc.py:102"]},
+                                zones["register write decode"])
+
+
+def test_the_bits_where_a_mutation_shows(driver_netlist):
+    """An output-port mutation shows on its own bit; an input-port one on what the cell
+    drives, followed through internal wires to the first named ones."""
+    import json
+
+    sim = driver_netlist.directory / "sim.json"
+    cells = json.loads(sim.read_text())["modules"]["dut"]["cells"]
+    flop = next(name for name, c in cells.items() if c["type"].endswith("dff")
+                and len(c["connections"]["Q"]) > 1)
+    named = stages.mutated_bits(sim, flop, "Q", 1)
+    assert len(named) <= 1 and all(b.endswith("[1]") for b in named)
+    assert stages.mutated_bits(sim, flop, "D", 1) == named
