@@ -134,7 +134,8 @@ class BlockCampaign:
 
     def save(self, started: float) -> None:
         db = {"block": self.block.name, "title": self.block.title, "design": self.design_hash,
-              "seed": self.settings.seed, "count": len(self.mutations),
+              "seed": self.settings.seed, "jobs": self.settings.jobs,
+              "count": len(self.mutations),
               "stages": list(self.settings.stages),
               "seconds": round(time.time() - started + self._previous_seconds(), 1),
               "baseline": self.baseline,

@@ -175,12 +175,13 @@ def write_report(out: str | Path = "reports", command: str | None = None) -> Pat
     if not dbs:
         lines.append("No campaign results yet (`make mutate`).")
     else:
-        seconds = sum(db.get("seconds", 0) for db in dbs.values())
+        # each database holds the time from the campaign's start to its last save
+        seconds = max(db.get("seconds", 0) for db in dbs.values())
         seeds = sorted({db["seed"] for db in dbs.values()})
         lines += [f"- Run: {time.strftime('%Y-%m-%d')}, seed {', '.join(map(str, seeds))}, "
                   f"{sum(len(db['results']) for db in dbs.values())} mutants, "
-                  f"{seconds / 60:.0f} min of campaign wall time (summed over blocks run "
-                  f"together).",
+                  f"{seconds / 60:.0f} min of campaign wall time with "
+                  f"{max(db.get('jobs', 2) for db in dbs.values())} parallel mutants.",
                   f"- Command: `{command or 'python -m tools.mutate'}`; one mutant again: "
                   "`python -m tools.mutate --block <block> --only '<key>'`.",
                   f"- Tools: {tool_versions()}.", "",

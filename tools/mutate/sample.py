@@ -24,7 +24,7 @@ from .blocks import BLOCKS
 from .netlist import ROOT, BlockNetlist, mutsel_width, wrapper
 from .stages import MutantBench, run_vectors
 
-__all__ = ["CLASSES", "SEED", "build", "draw", "main", "stimulus"]
+__all__ = ["ANY", "CLASSES", "ROWS", "SEED", "TRIED", "build", "draw", "main", "stimulus"]
 
 BUILD = ROOT / "build" / "mutate" / "sample"
 #: The sample's stimulus per block: the block's own vector stimulus, shortened (clocks per
@@ -68,6 +68,72 @@ CLASSES = {
                       ("inv", "const0", "const1"), None),
     },
 }
+#: the rows of docs/robustness.md (their first words) -> the logic that implements the row's
+#: behaviour, as CLASSES: a mutant there must fail the tests (the table says which)
+ANY = ("inv", "const0", "const1", "cnot0", "cnot1")
+ROWS = {
+    "reference beyond the linear range": {
+        "core": ("rtl/mdfqm_gateware/integrator.py", r"o_x\.eq\(Mux\(self\.o_saturated", ANY,
+                 None)},
+    "common-mode offset": {
+        "core": ("rtl/mdfqm_gateware/reference.py", r"total\.eq\(sum\(", ANY, None)},
+    "extreme codes": {
+        "core": ("rtl/mdfqm_gateware/reference.py", r"scaled\[i\]\.eq\(raw\[i\] \* n\)", ANY,
+                 None)},
+    "equal references (ties)": {
+        "core": ("rtl/mdfqm_gateware/sort.py", r"next_(values|index)\[a\]\.eq\(Mux\(a_first",
+                 ANY, None)},
+    "update period below the loop latency": {
+        "core": ("rtl/mdfqm_gateware/sequencer.py", r"clamped = self\.period < self\.latency",
+                 ANY, None)},
+    "OSR 0": {
+        "core": ("rtl/mdfqm_gateware/sequencer.py", r"osr_now = Mux\(self\.osr == 0", ANY,
+                 None)},
+    "runtime changes of period / OSR / zero policy / mode": {
+        # the zero policy taken at a start: its register and enable (the port's source line)
+        "core": ("rtl/mdfqm_gateware/sequencer.py", r'"policy": Out\(1\)', ANY, None)},
+    "illegal generator mode or bits": {
+        "generator": ("rtl/mdfqm_gateware/sequencer.py",
+                      r"legal = self\.mode < len|bits_now = Mux\(self\.bits < 1", ANY, None)},
+    "MODULATION written with a mode not built in": {
+        "top_wb": ("rtl/mdfqm_gateware/sequencer.py",
+                   r"legal = self\.mode < len|bits_now = Mux\(self\.bits < 1", ANY, None)},
+    "sync_in at any time": {
+        "core": ("rtl/mdfqm_gateware/sequencer.py",
+                 r"restart = self\.sync_in & \(phase >= self\.latency - 1\)", ANY, None)},
+    "reset in the middle of an update": {
+        "core": ("rtl/mdfqm_gateware/sequencer.py", r"start_q, tick_q = Signal\(init=1\)", ANY,
+                 ("S",))},          # the reset multiplexer's select
+    "a reference beat while one is pending": {
+        "core": ("rtl/mdfqm_gateware/reference.py", r"ref\.ready\.eq\(", ANY, None)},
+    "AXI4-Lite: an access to a word that holds no register": {
+        "top_axi": ("rtl/mdfqm_gateware/fronts.py",
+                    r"return Mux\(mask\.bit_select\(address, 1\), AXI_RESP_OKAY", ANY, None)},
+    "IRQ_STATUS written in the clock of a new event": {
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r"status_next = \(irq_status & ~cleared\)", ANY,
+                   None)},
+    "any value to any register": {
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r"dead\.eq\(Mux\(word < self\.dead_min", ANY,
+                   None)},
+    "dead time below the elaboration floor": {
+        "driver": ("rtl/mdfqm_gateware/driver.py", r"dt_expr = Mux\(dead_seen < self\.dead_min",
+                   ANY, None)},
+    "a commanded pulse shorter than the minimum pulse": {
+        "driver": ("rtl/mdfqm_gateware/driver.py", r"c < self\.min_pulse\)", ANY, None)},
+    "a slot shorter than the dead time plus the minimum pulse": {
+        "driver": ("rtl/mdfqm_gateware/driver.py",
+                   r"Mux\(drive & self\.active, \(cmd \^ cmd_lat\)", ANY, None)},
+    "fault input chatter, fault during a dead time": {
+        "driver": ("rtl/mdfqm_gateware/driver.py", r"fault_active\.eq\(self\.fault_input", ANY,
+                   None)},
+    "enable toggled in the middle of an update": {
+        "driver": ("rtl/mdfqm_gateware/driver.py", r"drive\.eq\(Mux\(self\.update, self\.enable",
+                   ANY, None)},
+    "the controller stops sending references (watchdog)": {
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r"trip\.eq\(\(timeout != 0\)", ANY, None)},
+}
+#: candidates simulated per (class, block) when drawing
+TRIED = 12
 
 
 def lines_matching(path: str, pattern: str) -> list[str]:
@@ -121,27 +187,39 @@ SEED = 2024
 
 
 def draw(seed: int) -> dict:
-    """A new sample: {block: [(key, class), ...]} (see the module docstring)."""
+    """A new sample: {block: [(key, class), ...]} (see the module docstring): per block one
+    netlist and bench with every class's candidates (at most :data:`TRIED` each, seeded),
+    then a seeded choice among the killed ones (two per fault class, one per row)."""
     rng = random.Random(seed)
     sample: dict[str, list] = {name: [] for name in BLOCKS}
-    for fault_class, per_block in CLASSES.items():
-        for block, (path, pattern, modes, ports) in per_block.items():
-            netlist = BlockNetlist(BLOCKS[block].build(True), BUILD / "draw" / block)
-            candidates = []
-            for location in lines_matching(path, pattern):
-                candidates += [m for m in netlist.candidates_at(location) if m.mode in modes
-                               and (ports is None or m.port in ports)]
-            keys = sorted({m.key for m in candidates})
+    wanted = [(f"row: {row}", spec, 1) for row, spec in ROWS.items()]
+    wanted = [(name, spec, 2) for name, spec in CLASSES.items()] + wanted
+    for block in BLOCKS:
+        netlist = BlockNetlist(BLOCKS[block].build(True), BUILD / "draw" / block)
+        classes = []
+        for fault_class, per_block, count in wanted:
+            if block not in per_block:
+                continue
+            path, pattern, modes, ports = per_block[block]
+            candidates = {m.key for location in lines_matching(path, pattern)
+                          for m in netlist.candidates_at(location) if m.mode in modes
+                          and (ports is None or m.port in ports)}
+            keys = sorted(candidates)
+            keys = rng.sample(keys, min(TRIED, len(keys)))
             if not keys:
                 print(f"# {block} / {fault_class}: no mutation at {path} /{pattern}/")
-                continue
-            binary, prepared, _ = build(block, keys, BUILD / "draw" / f"{block}-cand")
-            killed = [key for k, key in enumerate(keys, 1)
-                      if run_vectors(binary, prepared, k)["killed"]]
-            print(f"# {block} / {fault_class}: {len(killed)} of {len(keys)} killed")
-            if killed:
-                sample[block] += [(key, fault_class) for key in
-                                  rng.sample(killed, min(2, len(killed)))]
+            classes.append((fault_class, keys, count))
+        every = sorted({key for _, keys, _ in classes for key in keys})
+        if not every:
+            continue
+        binary, prepared, _ = build(block, every, BUILD / "draw" / f"{block}-cand")
+        killed = {key for k, key in enumerate(every, 1)
+                  if run_vectors(binary, prepared, k)["killed"]}
+        for fault_class, keys, count in classes:
+            hits = sorted(k for k in keys if k in killed)
+            print(f"# {block} / {fault_class}: {len(hits)} of {len(keys)} killed")
+            sample[block] += [(key, fault_class) for key in
+                              rng.sample(hits, min(count, len(hits)))]
     return sample
 
 
