@@ -21,7 +21,7 @@ from tools.mutate.stages import run_vectors
 #: block -> [(mutation key, fault class or robustness row)]: drawn by ``python -m
 #: tools.mutate.sample --seed 7`` (a seeded choice among the mutants the sample's stimulus kills
 #: at each class's lines and at each row's logic, tools/mutate/sample.py CLASSES and ROWS), with
-#: the two-events mutants of the tops chosen by hand among those: bit 1 of the sum of the legs'
+#: the Wishbone top's two-events mutant chosen by hand among those: bit 1 of the sum of the legs'
 #: turn-on strobes (lost only when two legs turn on in the same clock)
 SAMPLE = {
     "core": [
@@ -123,8 +123,6 @@ SAMPLE = {
          "two events in one clock"),
         ("rtl/mdfqm_gateware/fronts.py:133 front $shift#1 A[6] inv",
          "row: AXI4-Lite: an access to a word that holds no register"),
-        ("rtl/mdfqm_gateware/top.py:346 top $add#1 Y[1] const0",
-         "two events in one clock"),
     ],
 }
 CLASSES = ("pin polarity", "bus handshake (cyc or stb alone)", "two events in one clock")

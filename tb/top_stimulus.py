@@ -28,7 +28,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     gates switch within a few thousand clocks; MODULATION written now and then (any mode code,
     small b); a burst of back-to-back commands and clears (``CMD`` with random bits,
     ``IRQ_STATUS`` write-1-to-clear, settings) under frequent fault and sync pulses, so that
-    writes land in the same clock as the other events. Returns (inputs, expected outputs) by
+    writes land in the same clock as the other events; every register written at and beyond
+    its clamps and read back, the gates disabled meanwhile. Returns (inputs, expected outputs) by
     port, and the set of modes that were in force in some clock. ``census``, a dict if given,
     counts the clocks where a register write (``write``) or a ``CMD`` write (``command``) is
     issued together with each of :data:`COINCIDENT`: a reference beat taken, the fault input
@@ -46,7 +47,10 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     def settings():
         return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
                       (regs.PERIOD, 1, rng.choice([90, 130, 170])),
-                      (regs.DEAD, 1, 0), (regs.MIN_PULSE, 1, rng.randrange(8)),
+                      # a dead time at the floor (0 acts as dead_min) or above it
+                      (regs.DEAD, 1, rng.choice([0, component.dead_min,
+                                                 component.dead_min + rng.randrange(1, 24)])),
+                      (regs.MIN_PULSE, 1, rng.randrange(8)),
                       (regs.ADC_OFFSET, 1, rng.randrange(100)),
                       (regs.WATCHDOG, 1, rng.choice([0, 2, 4])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
@@ -60,6 +64,31 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if address in (regs.DEAD, regs.MIN_PULSE):
             data &= 0x3F
         return address, 1, data
+
+    def limit_writes():
+        """Every register at and beyond the values its clamp changes (docs/top.md, "Every
+        clamp"), each read back, with the gates disabled (a dead time or minimum pulse of
+        65535 clocks never in force), then the settings again."""
+        big = (0xFFFF, 0x10000, 0xFFFFFFFF)
+        # walking ones (over the whole word) and zeros: a stuck or swapped bit of a register or
+        # of its clamp's compare shows
+        walk16 = (*(1 << k for k in range(32)), *(0xFFFF ^ (1 << k) for k in range(16)))
+        walk8 = tuple(w for k in range(8) for w in (1 << k, 0xFF ^ (1 << k)))
+        codes = (contract.code_max, contract.code_max + 1, contract.code_min,
+                 contract.code_min - 1, (1 << 31) - 1, -(1 << 31))
+        values = {regs.PERIOD: (0, 1, *big, *walk16),
+                  regs.OSR: (0, 1, 255, 256, 0xFFFFFFFF, *walk8),
+                  regs.DEAD: (0, 1, *big, *walk16), regs.MIN_PULSE: (0, *big, *walk16),
+                  regs.ADC_OFFSET: (0, *big, *walk16), regs.WATCHDOG: (1, *big, *walk16, 0),
+                  regs.MODULATION: (0xFFFFFFFF, 0), regs.IRQ_ENABLE: (0xFFFFFFFF,),
+                  regs.CTRL: (0xFFFFFFFF & ~regs.CTRL_ENABLE,),
+                  **{regs.REF_BASE + i: tuple(pack([c], 32) for c in codes)
+                     for i in range(phases)}}
+        writes = deque([(regs.CTRL, 1, 0)])
+        for address, words in values.items():
+            for word in words:
+                writes += [(address, 1, word), (address, 0, 0)]
+        return writes + settings()
 
     ops = settings()
     current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
@@ -101,6 +130,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                 random_write(), random_write(),
             ]))
             gap = 0
+        if cycle == cycles * 2 // 5:           # every register at its clamps
+            ops.extend(limit_writes())
         if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
             ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2])))
         if current is None and ops and gap == 0:

@@ -37,6 +37,9 @@ def main(argv=None) -> int:
     parser.add_argument("--recheck", action="store_true",
                         help="with --resume: the equivalence stage again on the survivors and "
                              "undecided mutants")
+    parser.add_argument("--retry", action="store_true",
+                        help="with --resume: every mutant not killed through every stage again "
+                             "(after the tests changed)")
     parser.add_argument("--only", action="append", default=[],
                         help="run this mutation key only (repeatable; needs --block)")
     parser.add_argument("--stages", default=",".join(STAGES),
@@ -73,7 +76,8 @@ def main(argv=None) -> int:
     if args.count:
         counts = {b: args.count for b in BLOCKS}
     settings = Settings(blocks=blocks, counts=counts, seed=args.seed, jobs=args.jobs,
-                        resume=args.resume or args.recheck, recheck=args.recheck,
+                        resume=args.resume or args.recheck or args.retry,
+                        recheck=args.recheck, retry=args.retry,
                         only=tuple(args.only), stages=stages,
                         eq_timeout=args.eq_timeout, progress=not args.no_progress)
     print(f"mutate: seed {args.seed}, blocks {', '.join(blocks)}, {args.jobs} jobs "

@@ -34,8 +34,8 @@ from .stages import (
 )
 
 __all__ = [
-    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "STAGES", "BlockCampaign", "Settings", "counts",
-    "evaluate", "run", "summary_line"
+    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "STAGES", "STIMULUS_SOURCES", "BlockCampaign",
+    "Settings", "counts", "evaluate", "run", "stimulus_hash", "summary_line",
 ]
 
 BUILD = ROOT / "build" / "mutate"
@@ -65,6 +65,8 @@ class Settings:
     progress: bool = True
     #: with resume: run the equivalence stage again on the survivors and undecided mutants
     recheck: bool = False
+    #: with resume: run every mutant not killed through every stage again (the tests changed)
+    retry: bool = False
 
 
 class BlockCampaign:
@@ -127,6 +129,8 @@ class BlockCampaign:
         self._loaded_baseline = db.get("baseline")
         results = {key: r for key, r in db.get("results", {}).items()
                    if tuple(r.get("stages", ())) == tuple(self.settings.stages)}
+        if self.settings.retry:      # the tests changed: every mutant not killed runs again
+            results = {key: r for key, r in results.items() if r["status"] == "killed"}
         #: the earlier records of the mutants --recheck runs through stage 3 again
         self.rechecked = {key: r for key, r in results.items()
                           if self.settings.recheck and r["status"] in ("survived", "undecided")}
@@ -192,7 +196,7 @@ class BlockCampaign:
     def _stimulus(self, bench: MutantBench, name: str, seeds: list[int]) -> list[dict]:
         """The block's vector runs for ``seeds``, written once (cached by seed)."""
         stamp = bench.directory / f"{name}.json"
-        tag = {"seeds": seeds, "block": self.block.name}
+        tag = {"seeds": seeds, "block": self.block.name, "sources": stimulus_hash()}
         if stamp.exists():
             saved = json.loads(stamp.read_text())
             if saved.get("tag") == tag and all(Path(r["stim"]).exists()
@@ -213,6 +217,20 @@ class BlockCampaign:
     def previous(self, key: str) -> dict | None:
         """The earlier record of a mutant --recheck runs again from stage 3."""
         return self.rechecked.get(key)
+
+
+def stimulus_hash() -> str:
+    """A hash of the sources of the blocks' vector stimulus: cached vector files are redone
+    when it changes."""
+    digest = hashlib.sha256()
+    for path in STIMULUS_SOURCES:
+        digest.update((ROOT / path).read_bytes())
+    return digest.hexdigest()[:16]
+
+
+#: the files the vector stimulus of :mod:`.blocks` is made by
+STIMULUS_SOURCES = ("tb/core_stimulus.py", "tb/bbit_stimulus.py", "tb/top_stimulus.py",
+                    "tb/test_driver.py", "tools/mutate/blocks.py")
 
 
 #: the mutation of mutant 0, the original
