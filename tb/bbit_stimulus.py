@@ -17,7 +17,8 @@ Scenarios:
   in random modes;
 - ``limits``: every setting at its ends and at the values its clamp changes: period 0, 1, the
   minimum and now and then a long one up to 2**16 - 1; OSR 0, 1, 254, 255; mode 0-7 (5-7
-  illegal); bits 0, 1, max_bits, max_bits + 1, 15; extreme codes and overmodulation;
+  illegal); bits 0, 1, max_bits, max_bits + 1, 15; extreme codes, codes on the b-bit grid
+  (the quantiser's decision boundaries, :func:`grid_codes`) and overmodulation;
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
   ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
 """
@@ -49,6 +50,17 @@ RESETS = {"switch": 0.0005}
 SYNCS = {"switch": 0.02, "limits": 0.0005}
 INPUTS = ("rst", "ref__valid", "ref__payload", "period", "osr", "zero_policy", "sync_in",
           "mode", "bits")
+
+
+def grid_codes(rng, contract, phases, bits):
+    """A beat on the ``b``-bit grid: the codes differ by whole steps of ``FULL >> b`` (give or
+    take a code), around a random common mode. The differences set the slots, so the
+    quantiser's remainders land at and next to its decision boundaries."""
+    step = contract.full >> max(1, min(bits, contract.width - 2))
+    base = rng.randint(-contract.full // 2, contract.full // 2)
+    codes = [base + rng.randint(-(1 << bits), 1 << bits) * step + rng.choice([0, 0, 0, -1, 1])
+             for _ in range(phases)]
+    return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
 
 
 def _period_for(rng, model, mode, b):
@@ -129,8 +141,11 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             rst = 1                                   # reset mid-run
         if offered is None and rng.random() < 0.7:    # idle gaps between beats
             angle += step
-            if scenario == "extremes" or (scenario == "limits" and rng.random() < 0.5):
+            pick = rng.random()
+            if scenario == "extremes" or (scenario == "limits" and pick < 0.3):
                 offered = extreme_codes(rng, contract, n)
+            elif scenario == "limits" and pick < 0.7:
+                offered = grid_codes(rng, contract, n, max(bits, 1))
             else:
                 offered = sine_codes(contract, amplitude, angle, offset)
         sync_in = int((scenario in SYNCS and (scenario != "limits" or cycle > cycles // 2)

@@ -5,6 +5,7 @@ outputs from :class:`mdfqm_model.top.TopModel`: used by the drop-in files' vecto
 import math
 from collections import deque
 
+from core_stimulus import extreme_codes, sine_codes
 from harness import pack
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
@@ -21,7 +22,8 @@ COINCIDENT = ("beat", "fault", "sync", "turn_on")
 
 def top_stimulus(rng, component, phases, width, cycles, census=None):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
-    Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``, a
+    Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``
+    (sines from near zero into overmodulation, extreme codes, ties), a
     fault pulse and its clear, a stall of the stream (the watchdog on at times), sync pulses and
     a reset in the middle; on Wishbone, ``cyc`` or ``stb`` alone while idle and ``cyc`` raised
     before ``stb`` at times; the settings make the
@@ -42,7 +44,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     inputs, outputs = ports_of(component)
     stim = {port: [] for port, _ in inputs}
     expected = {port: [] for port, _ in outputs}
-    amplitude = 0.5 * contract.full
+    amplitude = 0.5                     # of Vdc
 
     def settings():
         return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
@@ -160,8 +162,16 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
         if offered is None and not stalled and rng.random() < 0.3:
             angle += 0.05
-            offered = [round(amplitude * math.cos(angle - 2 * math.pi * i / phases))
-                       for i in range(phases)]
+            pick = rng.random()
+            if pick < 0.1:                      # the ends and the middle of the code range
+                offered = extreme_codes(rng, contract, phases)
+            elif pick < 0.2:                    # ties
+                level = rng.randint(contract.code_min, contract.code_max)
+                offered = [rng.choice([level, -level // 2, 0]) for _ in range(phases)]
+            else:
+                offered = sine_codes(contract, amplitude, angle)
+        if cycle % 5000 == 0:                   # from near zero into overmodulation
+            amplitude = rng.uniform(0.05, 1.0)
         if cycle == cycles // 4:
             fault_until = cycle + rng.randrange(3, 20)
         if burst and rng.random() < 0.01:
