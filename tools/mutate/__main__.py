@@ -44,8 +44,8 @@ def main(argv=None) -> int:
                         help="run this mutation key only (repeatable; needs --block)")
     parser.add_argument("--stages", default=",".join(STAGES),
                         help="stages to run (default: %(default)s)")
-    parser.add_argument("--eq-timeout", type=float, default=30.0,
-                        help="seconds of each equivalence step (default 30)")
+    parser.add_argument("--eq-timeout", type=float, default=90.0,
+                        help="seconds of each equiv proof (default 90)")
     parser.add_argument("--out", default="reports", help="where MUTATION.md goes")
     parser.add_argument("--no-report", action="store_true", help="do not write the report")
     parser.add_argument("--report-only", action="store_true",

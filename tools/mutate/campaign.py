@@ -60,7 +60,7 @@ class Settings:
     resume: bool = False
     only: tuple[str, ...] = ()
     stages: tuple[str, ...] = STAGES
-    eq_timeout: float = 30.0
+    eq_timeout: float = 90.0
     cocotb_timeout: float = 900.0
     progress: bool = True
     #: with resume: run the equivalence stage again on the survivors and undecided mutants

@@ -37,8 +37,15 @@ from vectors import VectorBench, pack_words  # noqa: E402
 from vectors import verilog_name as v  # noqa: E402
 
 __all__ = [
-    "MutantBench", "cocotb_build", "miter_verilog", "mutated_bits", "run_cocotb",
-    "run_equivalence", "run_formal", "run_vectors",
+    "BMC_SECONDS",
+    "MutantBench",
+    "cocotb_build",
+    "miter_verilog",
+    "mutated_bits",
+    "run_cocotb",
+    "run_equivalence",
+    "run_formal",
+    "run_vectors",
 ]
 
 _RESULT = re.compile(r"RESULT cycles (\d+) mismatches (\d+)")
@@ -246,6 +253,10 @@ def miter_verilog(module: str, ports, width: int, mutant: int) -> str:
             "    end\nendmodule\n")
 
 
+#: seconds of the bounded check (it reaches 10-20 clocks after reset on the tops in that time;
+#: a longer one rarely finds what the longer simulation before it did not)
+BMC_SECONDS = 20
+
 #: Yosys's ``$equiv`` cell as an assertion (the base case of the equivalence proof)
 EQUIV_AS_ASSERT = """module \\$equiv (A, B, Y);
     input A, B;
@@ -316,15 +327,18 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
 
     1. a proof of equivalence with Yosys's ``equiv`` passes: the original (mutsel 0) and the
        mutant, each flattened and optimised, every signal of one name in both paired
-       (``equiv_make``, the wires split into bits) but the bits where the mutation shows
-       (``changed``, from :func:`mutated_bits`: pairing them would assume away the very
-       difference, and a mutation no output sees could never be proven); every pair equal in
-       the first two clocks from power-up with reset in the first (``sat``, the base case) and every
-       pair proven to stay equal (``equiv_simple``, ``equiv_induct``: the induction step):
-       *equivalent*;
+       (``equiv_make``, the wires split into bits); every pair equal in the first two clocks
+       from power-up with reset in the first (``sat``, the base case) and every pair proven
+       to stay equal (``equiv_simple``, ``equiv_induct``: the induction step): *equivalent*.
+       Tried twice: every pair (a mutated register whose copies stay equal is proven only
+       while paired), then without the bits where the mutation shows (``changed``, from
+       :func:`mutated_bits`: a mutation no output sees is never proven while they are paired);
+       either proof is sound;
     2. otherwise a bounded check from reset, SymbiYosys ``bmc`` (the miter's two copies
-       combined by ``fmcombine``, yices) to ``depth`` clocks within ``timeout`` seconds: a
+       combined by ``fmcombine``, yices) to ``depth`` clocks within :data:`BMC_SECONDS`: a
        counterexample is *not equivalent*, none is *undecided*.
+
+    ``timeout``: seconds of each ``equiv`` proof.
 
     ``{"verdict": ..., "detail": str}``."""
     work = Path(directory).resolve() / f"eq-{mutant}"
@@ -334,40 +348,44 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
     netlist = Path(netlist_il).resolve()
     (work / "pair.v").write_text(plain_pair(module, ports, width, mutant))
     (work / "equiv_assert.v").write_text(EQUIV_AS_ASSERT)
-    (work / "unpaired.txt").write_text("".join(f"u.{name}\n" for name in changed))
-    (work / "equiv.ys").write_text("\n".join([
-        "read_verilog -formal equiv_assert.v", "proc", "design -stash equivmap",
-        f"read_rtlil {netlist}", "read_verilog pair.v", "flatten gold gate",
-        f"delete {module}", "memory_map", "opt -full", "opt_clean -purge", "splitnets",
-        "equiv_make -blacklist unpaired.txt gold gate equiv", "hierarchy -top equiv",
-        "design -save paired",
-        "techmap -map %equivmap t:$equiv", "chformal -lower", "opt_clean",
-        "sat -seq 2 -prove-asserts -set-at 1 rst 1 equiv", "design -load paired",
-        "equiv_simple -seq 1", "equiv_induct -seq 1", "equiv_status -assert"]) + "\n")
-    try:
-        subprocess.run([YOSYS, "-q", "-l", "equiv.log", "-s", "equiv.ys"], cwd=work,
-                       capture_output=True, text=True, timeout=timeout)
-        log = (work / "equiv.log").read_text()
-    except subprocess.TimeoutExpired:
-        log = ""
-    if ("SAT proof finished - no model found: SUCCESS!" in log
-            and "Equivalence successfully proven!" in log):
-        shutil.rmtree(work, ignore_errors=True)
-        return {"verdict": "equivalent",
-                "detail": "proven (Yosys equiv_make/equiv_simple/equiv_induct, base case by "
-                          "sat)"}
+    # every pair first (a mutated register whose two copies stay equal is proven by
+    # induction only while paired), then without the bits where the mutation shows
+    for step, unpaired in enumerate(dict.fromkeys(((), tuple(changed)))):
+        (work / f"unpaired{step}.txt").write_text("".join(f"u.{n}\n" for n in unpaired))
+        (work / f"equiv{step}.ys").write_text("\n".join([
+            "read_verilog -formal equiv_assert.v", "proc", "design -stash equivmap",
+            f"read_rtlil {netlist}", "read_verilog pair.v", "flatten gold gate",
+            f"delete {module}", "memory_map", "opt -full", "opt_clean -purge", "splitnets",
+            f"equiv_make -blacklist unpaired{step}.txt gold gate equiv",
+            "hierarchy -top equiv", "design -save paired",
+            "techmap -map %equivmap t:$equiv", "chformal -lower", "opt_clean",
+            "sat -seq 2 -prove-asserts -set-at 1 rst 1 equiv", "design -load paired",
+            "equiv_simple -seq 1", "equiv_induct -seq 1", "equiv_status -assert"]) + "\n")
+        try:
+            subprocess.run([YOSYS, "-q", "-l", f"equiv{step}.log", "-s", f"equiv{step}.ys"],
+                           cwd=work, capture_output=True, text=True, timeout=timeout)
+            log = (work / f"equiv{step}.log").read_text()
+        except subprocess.TimeoutExpired:
+            log = ""
+        if ("SAT proof finished - no model found: SUCCESS!" in log
+                and "Equivalence successfully proven!" in log):
+            shutil.rmtree(work, ignore_errors=True)
+            how = "every signal paired" if not unpaired else f"{len(unpaired)} bits unpaired"
+            return {"verdict": "equivalent",
+                    "detail": f"proven (Yosys equiv_make/equiv_simple/equiv_induct, {how}; "
+                              "base case by sat)"}
     (work / "miter.sv").write_text(miter_verilog(module, ports, width, mutant))
     prep = [f"read_rtlil {netlist}", "read_verilog -formal -sv miter.sv", "prep -top miter",
             f"memory_map {module}", "opt -fast", "fmcombine -initeq miter gold gate",
             "flatten", "opt -fast"]
     (work / "eq.sby").write_text("\n".join([
-        "[options]", "mode bmc", f"depth {depth}", f"timeout {int(timeout)}", "",
+        "[options]", "mode bmc", f"depth {depth}", f"timeout {int(BMC_SECONDS)}", "",
         "[engines]", "smtbmc --stbv yices", "", "[script]", *prep, "", "[files]",
         "miter.sv", ""]))
     started = time.monotonic()
     try:
         result = subprocess.run(["yowasp-sby", "-f", "eq.sby"], cwd=work, env=environment(),
-                                capture_output=True, text=True, timeout=timeout + 60)
+                                capture_output=True, text=True, timeout=BMC_SECONDS + 60)
         text = result.stdout
     except subprocess.TimeoutExpired as expired:
         text = expired.stdout or ""
