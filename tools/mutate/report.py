@@ -20,8 +20,9 @@ from pathlib import Path
 from .campaign import BUILD, EQ_DEPTH, counts
 from .netlist import ROOT
 from .netlist import location as netlist_location
+from .stages import BMC_SECONDS
 
-__all__ = ["first_difference", "in_region", "regions", "write_report"]
+__all__ = ["first_difference", "in_region", "reach", "regions", "write_report"]
 
 #: kill-rate targets (per cent of the non-equivalent mutants)
 TARGET_BLOCK = 95.0
@@ -121,6 +122,16 @@ def first_difference(trace: Path) -> str:
                 return (f"{name[5:]}: original {number(a)}, mutant {number(b)}, "
                         f"clock {now // 10}")
     return ""
+
+
+def reach(dbs: dict) -> str:
+    """The clocks after reset the bounded check reached on the undecided mutants
+    (``lowest-highest``), read from their records."""
+    depths = [int(match.group(1)) for db in dbs.values() for r in db["results"].values()
+              if r["status"] == "undecided"
+              for match in [re.search(r"no difference within (\d+) clocks", r["detail"])]
+              if match]
+    return f"{min(depths)}-{max(depths)}" if depths else "-"
 
 
 def tool_versions() -> str:
@@ -226,9 +237,11 @@ def write_report(out: str | Path = "reports", command: str | None = None) -> Pat
                   f"Of the formal kills, {induction} are a proof that no longer closes by "
                   "induction (no counterexample from reset: the test fails, but the mutant "
                   "may not be wrong); the others are counterexamples from reset.",
-                  f"The bounded check covers {min(EQ_DEPTH.values())}-{max(EQ_DEPTH.values())} "
-                  "clocks after reset; a difference that needs more (a counter far from its "
-                  "reset value) leaves a mutant undecided.", "",
+                  f"The bounded check (depth {min(EQ_DEPTH.values())}-"
+                  f"{max(EQ_DEPTH.values())} clocks, {BMC_SECONDS} s) reached "
+                  f"{reach(dbs)} clocks after reset on the undecided mutants; a difference that "
+                  "needs more (a counter far from its reset value, a value at a quantiser's "
+                  "decision boundary) leaves a mutant undecided.", "",
                   "## The logic with a 100 % target", "",
                   "| logic (source lines found by their text) | tried | killed | equivalent | "
                   "killed of non-equivalent |", "|---|---|---|---|---|"]
