@@ -114,7 +114,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                 [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
                 [random_write()],
                 [(regs.MODULATION, 1, rng.randrange(8) << regs.MODULATION_MODE_SHIFT
-                  | rng.choice([1, 2, 3, 15]) << regs.MODULATION_BITS_SHIFT),
+                  | rng.choice([1, 2, 3, 15, rng.randrange(16)]) << regs.MODULATION_BITS_SHIFT),
                  (regs.MODULATION, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
             ]))
