@@ -20,6 +20,7 @@ from pathlib import Path
 from .campaign import BUILD, EQ_DEPTH, counts
 from .netlist import ROOT
 from .netlist import location as netlist_location
+from .readings import READINGS
 from .stages import BMC_SECONDS
 
 __all__ = ["first_difference", "in_region", "reach", "regions", "write_report"]
@@ -163,8 +164,6 @@ def load() -> dict[str, dict]:
 
 def write_report(out: str | Path = "reports", command: str | None = None) -> Path:
     """Write ``<out>/MUTATION.md``; returns its path."""
-    from .readings import READINGS
-
     dbs = load()
     zones = regions()
     lines = ["# Mutation campaign", "",
@@ -198,8 +197,9 @@ def write_report(out: str | Path = "reports", command: str | None = None) -> Pat
                   f"- Tools: {tool_versions()}.", "",
                   "## Per block", "",
                   "| block | tried | killed (vector / cocotb / formal) | equivalent | undecided "
-                  "| survived | killed of non-equivalent | target |",
-                  "|---|---|---|---|---|---|---|---|"]
+                  "| survived | killed of non-equivalent | target | read as equivalent: "
+                  "killed of the rest |",
+                  "|---|---|---|---|---|---|---|---|---|"]
         survivors = []
         region_tally = {name: {"tried": 0, "killed": 0, "equivalent": 0}
                         for name in zones}
@@ -209,11 +209,17 @@ def write_report(out: str | Path = "reports", command: str | None = None) -> Pat
             relevant = t["tried"] - t["equivalent"]
             rate = 100.0 * t["killed"] / relevant if relevant else 100.0
             target = TARGET_STRICT if name == "driver" else TARGET_BLOCK
-            mark = "met" if rate >= target else "**not met**"
+            mark = ("not run" if not t["tried"] else "met" if rate >= target
+                    else "**not met**")
+            # undecided mutants a reading argues equivalent (tools/mutate/readings.py)
+            read = sum(1 for k, r in results.items() if r["status"] == "undecided"
+                       and READINGS.get(k, "").startswith("equivalent"))
+            rest = relevant - read
+            read_rate = 100.0 * t["killed"] / rest if rest else 100.0
             lines.append(f"| {db['title']} | {t['tried']} | {t['killed']} ({t['vector']} / "
                          f"{t['cocotb']} / {t['formal']}) | {t['equivalent']} | "
                          f"{t['undecided']} | {t['survived']} | {rate:.1f} % | "
-                         f"{target:.0f} %: {mark} |")
+                         f"{target:.0f} %: {mark} | {read}: {read_rate:.1f} % |")
             by_key = {m["key"]: m for m in db["mutations"]}
             for key, r in results.items():
                 m = by_key.get(key)
@@ -229,11 +235,13 @@ def write_report(out: str | Path = "reports", command: str | None = None) -> Pat
             errors = len(db["results"]) - len(results)
             if errors:
                 lines.append(f"| ({errors} of {db['title']}'s mutants could not be evaluated) "
-                             "| | | | | | | |")
+                             "| | | | | | | | |")
         induction = sum(1 for db in dbs.values() for r in db["results"].values()
                         if r["status"] == "killed" and "induction no longer closes"
                         in r.get("detail", ""))
-        lines += ["", "Undecided mutants count as not equivalent in the rates (a lower bound). "
+        lines += ["", "Undecided mutants count as not equivalent in the rates (a lower bound); "
+                  "the last column sets apart those that a reading below argues equivalent "
+                  "(not proven: an argument, not a check). "
                   f"Of the formal kills, {induction} are a proof that no longer closes by "
                   "induction (no counterexample from reset: the test fails, but the mutant "
                   "may not be wrong); the others are counterexamples from reset.",
