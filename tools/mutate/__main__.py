@@ -38,8 +38,8 @@ def main(argv=None) -> int:
                         help="with --resume: the equivalence stage again on the survivors and "
                              "undecided mutants")
     parser.add_argument("--retry", action="store_true",
-                        help="with --resume: every mutant not killed through every stage again "
-                             "(after the tests changed)")
+                        help="with --resume: every mutant neither killed nor proven equivalent "
+                             "through every stage again (after the tests changed)")
     parser.add_argument("--only", action="append", default=[],
                         help="run this mutation key only (repeatable; needs --block)")
     parser.add_argument("--stages", default=",".join(STAGES),

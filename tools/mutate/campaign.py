@@ -129,8 +129,9 @@ class BlockCampaign:
         self._loaded_baseline = db.get("baseline")
         results = {key: r for key, r in db.get("results", {}).items()
                    if tuple(r.get("stages", ())) == tuple(self.settings.stages)}
-        if self.settings.retry:      # the tests changed: every mutant not killed runs again
-            results = {key: r for key, r in results.items() if r["status"] == "killed"}
+        if self.settings.retry:      # the tests changed: survivors and errors run again
+            results = {key: r for key, r in results.items()
+                       if r["status"] in ("killed", "equivalent")}
         #: the earlier records of the mutants --recheck runs through stage 3 again
         self.rechecked = {key: r for key, r in results.items()
                           if self.settings.recheck and r["status"] in ("survived", "undecided")}

@@ -96,6 +96,12 @@ def run_vectors(binary: str, prepared: list[dict], mutant: int) -> dict:
                                  f"+cycles={run['cycles']}", f"+mutsel={mutant}"],
                                 capture_output=True, text=True, cwd=Path(binary).parent)
         match = _RESULT.search(result.stdout)
+        stop = re.search(r"%Error: \S+ Assertion failed in [^:]+: (.*)", result.stdout)
+        if match is None and stop is not None:
+            # a one-hot case (``parallel_case``) with two matches: the mutant's netlist has
+            # no defined behaviour there and its simulation stops: the run fails
+            return {"killed": True, "cycles": checked,
+                    "detail": f"{run['name']}: the simulation stops: {stop.group(1)[:160]}"}
         if result.returncode != 0 or match is None:
             raise RuntimeError(f"vector simulation failed (mutant {mutant}):\n"
                                f"{result.stdout[-2000:]}\n{result.stderr[-2000:]}")
