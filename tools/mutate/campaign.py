@@ -87,13 +87,23 @@ class BlockCampaign:
         if settings.only:
             self.mutations = self.netlist.resolve(settings.only)
         else:
-            self.mutations = self.netlist.sample(settings.counts[block.name], settings.seed)
-            self.mutations += self._focused(settings.seed, settings.counts[block.name])
+            count = settings.counts[block.name]
+            if block.exclude:        # the even sample of the rest: a larger draw, filtered
+                self.mutations = [m for m in self.netlist.sample(8 * count, settings.seed)
+                                  if self._kept(m)][:count]
+            else:
+                self.mutations = self.netlist.sample(count, settings.seed)
+            self.mutations += self._focused(settings.seed, count)
         self.db_path = self.directory / "results.json"
         self.results = self._load()
         self.baseline = self._loaded_baseline
         self.module = f"{block.name}_mutants"
         self.width = mutsel_width(len(self.mutations))
+
+    def _kept(self, mutation: Mutation) -> bool:
+        """Whether ``mutation`` is in a scope this block measures (``Block.exclude``)."""
+        scope = mutation.key.split(" ")[1]
+        return not any(scope == s or scope.startswith(s + ".") for s in self.block.exclude)
 
     def _focused(self, seed: int, count: int) -> list[Mutation]:
         """Mutations of the logic with a 100 % target (:func:`report.regions`: the fault path,
@@ -110,7 +120,7 @@ class BlockCampaign:
         rng = random.Random(f"{seed}-focus-{self.block.name}")
         extra = []
         for _, lines in sorted(regions().items()):
-            pool = [m for m in every if m.key not in drawn
+            pool = [m for m in every if m.key not in drawn and self._kept(m)
                     and in_region({"src": m.src}, lines)]
             chosen = rng.sample(pool, min(per_region, len(pool)))
             extra += chosen
@@ -127,8 +137,9 @@ class BlockCampaign:
         if db.get("design") != self.design_hash or db.get("seed") != self.settings.seed:
             return {}
         self._loaded_baseline = db.get("baseline")
+        drawn = {m.key for m in self.mutations}
         results = {key: r for key, r in db.get("results", {}).items()
-                   if tuple(r.get("stages", ())) == tuple(self.settings.stages)}
+                   if tuple(r.get("stages", ())) == tuple(self.settings.stages) and key in drawn}
         if self.settings.retry:      # the tests changed: survivors and errors run again
             results = {key: r for key, r in results.items()
                        if r["status"] in ("killed", "equivalent")}
