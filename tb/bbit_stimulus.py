@@ -10,9 +10,9 @@ Scenarios:
   the minimum, at multiples of ``2**b`` and with remainder clocks, OSR and zero policy moving;
 - ``switch``: mode and bits (illegal codes included), period (below the minimum included), OSR,
   sync_in and resets all changing at random cycles;
-- ``handover``: mdfqm and the gamma modes alternating every update or two, small b, mostly the
-  fewest-transitions zero policy, small amplitudes: an MDFQM update right after a layout, whose
-  zero state depends on the layout's last slot;
+- ``handover``: mdfqm and the gamma modes alternating every update or two, mostly small b (up
+  to max_bits at times), mostly the fewest-transitions zero policy, small amplitudes: an MDFQM
+  update right after a layout, whose zero state depends on the layout's last slot;
 - ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
   in random modes;
 - ``limits``: every setting at its ends and at the values its clamp changes: period 0, 1, the
@@ -133,7 +133,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             amplitude = rng.uniform(0.05, 1.1) * lin
         if scenario == "handover" and rng.random() < 1 / (1.5 * model.long_latency):
             mode = rng.choice([0, 0, 0, 1, 2, 3, 4])
-            bits = rng.choice([1, 1, 2])
+            bits = rng.choice([1, 1, 2, rng.randint(3, max_bits)])
             policy = int(rng.random() < 0.8)
             period = rng.choice([0, model.long_latency, model.long_latency + 3])
             amplitude = rng.uniform(0.0, 0.4) * lin
