@@ -54,7 +54,7 @@ def test_bbit_limits_vectors():
     print(f"bbit limits vectors: seed {seed} (replay with SEED={seed})")
     contract = Contract(3, 16)
     bench = VectorBench(GatingSignalGenerator(3, 16, "largest_duty", 8),
-                        "gating_signal_generator", "n3-w16-largest_duty-b8")
+                        "gating_signal_generator", "n3-w16-largest_duty-b8-limits")
     stim, expected, _ = generate(random.Random(f"{seed}-limits"), "limits", contract,
                                  "largest_duty", 8, LIMITS_CYCLES, bits_choices=tuple(range(1, 9)),
                                  segment=4000)
