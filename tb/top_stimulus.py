@@ -23,19 +23,19 @@ COINCIDENT = ("beat", "fault", "sync", "turn_on")
 def top_stimulus(rng, component, phases, width, cycles, census=None):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``
-    (sines from near zero into overmodulation, extreme codes, ties), a
-    fault pulse and its clear, a stall of the stream (the watchdog on at times), sync pulses and
-    a reset in the middle; on Wishbone, ``cyc`` or ``stb`` alone while idle and ``cyc`` raised
-    before ``stb`` at times; the settings make the
-    gates switch within a few thousand clocks; MODULATION written now and then (any mode code,
-    small b); a burst of back-to-back commands and clears (``CMD`` with random bits,
-    ``IRQ_STATUS`` write-1-to-clear, settings) under frequent fault and sync pulses, so that
-    writes land in the same clock as the other events; every register written at and beyond
-    its clamps and read back, the gates disabled meanwhile. Returns (inputs, expected outputs) by
-    port, and the set of modes that were in force in some clock. ``census``, a dict if given,
-    counts the clocks where a register write (``write``) or a ``CMD`` write (``command``) is
-    issued together with each of :data:`COINCIDENT`: a reference beat taken, the fault input
-    high, a sync pulse, a gate turning on; keys like ``("command", "beat")``."""
+    (sines from near zero into overmodulation, extreme codes, ties), a fault pulse and its
+    clear, a stall of the stream (the watchdog on at times), sync pulses and a reset in the
+    middle; on Wishbone, ``cyc`` or ``stb`` alone while idle and ``cyc`` raised before ``stb``
+    at times; the settings make the gates switch within a few thousand clocks; MODULATION
+    written now and then (any mode code, any b code, mostly small); a burst of back-to-back
+    commands and clears (``CMD`` with random bits, ``IRQ_STATUS`` write-1-to-clear, settings)
+    under frequent fault and sync pulses, so that writes land in the same clock as the other
+    events; every register written at and beyond its clamps and read back, the gates disabled
+    meanwhile. Returns (inputs, expected outputs) by port, and the set of modes that were in
+    force in some clock. ``census``, a dict if given, counts the clocks where a register write
+    (``write``) or a ``CMD`` write (``command``) is issued together with each of
+    :data:`COINCIDENT`: a reference beat taken, the fault input high, a sync pulse, a gate
+    turning on; keys like ``("command", "beat")``."""
     axi = component.bus == "axi4lite"
     model = TopModel(phases, width, component.rule, component.dead_min,
                      component.upper_active_low, component.lower_active_low, bus=component.bus,

@@ -29,4 +29,9 @@ READINGS: dict[str, str] = {
         "(the clamp `max(P, minimum)` gives the same value either way; the update's end comes "
         "from the count-down of `period` itself). `equiv` cannot see that b >= 1 whenever "
         "`slot_len` is read.",
+    "rtl/mdfqm_gateware/generator.py:140 top $mux#0 B[9] const1":
+        "equivalent by reading, not proven: this is the reset multiplexer of `slot_m2` (select "
+        "`rst`, B its reset value 0): the mutation gives it 512 for the one clock after a "
+        "reset. `slot_m2` is written every clock and read only when a layout is loaded, which "
+        "never happens in the clock after a reset (the pipeline's valid flags are reset too).",
 }
