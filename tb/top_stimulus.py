@@ -92,6 +92,15 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                 writes += [(address, 1, word), (address, 0, 0)]
         return writes + settings()
 
+    mode_codes = []
+
+    def next_mode():
+        """Every mode code (0-7) once in each round, in a random order: every mode is in force
+        in a short run too."""
+        if not mode_codes:
+            mode_codes.extend(rng.sample(range(8), 8))
+        return mode_codes.pop()
+
     ops = settings()
     current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
     was_on = 0
@@ -113,10 +122,13 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                 [(regs.CMD, 1, regs.CMD_COUNT_CLEAR), (regs.EVENTS_TOTAL, 0, 0)],
                 [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
                 [random_write()],
-                [(regs.MODULATION, 1, rng.randrange(8) << regs.MODULATION_MODE_SHIFT
+                [(regs.MODULATION, 1, next_mode() << regs.MODULATION_MODE_SHIFT
                   | rng.choice([1, 2, 3, 15, rng.randrange(16)]) << regs.MODULATION_BITS_SHIFT),
                  (regs.MODULATION, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
+                # every switching counter read (not only right after a clear)
+                [(regs.EVENTS_BASE + i, 0, 0) for i in range(phases)]
+                + [(regs.EVENTS_TOTAL, 0, 0)],
             ]))
         burst = burst_start <= cycle < burst_end
         # firmware restoring its settings now and then (random writes may leave a dead time
