@@ -19,6 +19,10 @@ Scenarios:
   minimum and now and then a long one up to 2**16 - 1; OSR 0, 1, 254, 255; mode 0-7 (5-7
   illegal); bits 0, 1, max_bits, max_bits + 1, 15; extreme codes, codes on the b-bit grid
   (the quantiser's decision boundaries, :func:`grid_codes`) and overmodulation;
+- ``boundaries``: short trials from reset, each a random mode and b at its shortest periods,
+  every beat on the half-slot grid (:func:`boundary_codes`): from reset the integrators are
+  empty, so the first update's instants sit exactly on the quantiser's decision boundaries
+  and the duty sort's ties (a closed loop only wanders onto them now and then);
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
   ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
 """
@@ -42,7 +46,7 @@ from mdfqm_spec.contract import MODES, min_period
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
            "mode_in_force": "mode_in_force", "bits_in_force": "bits_in_force"}
-SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes", "limits")
+SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes", "limits", "boundaries")
 #: clocks of a ``limits`` run with room for an update at the largest period (2**16 - 1)
 LIMITS_CYCLES = 150_000
 #: chance of a reset, of a sync pulse in a clock, per scenario (``limits`` as in core_stimulus)
@@ -61,6 +65,48 @@ def grid_codes(rng, contract, phases, bits):
     codes = [base + rng.randint(-(1 << bits), 1 << bits) * step + rng.choice([0, 0, 0, -1, 1])
              for _ in range(phases)]
     return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
+
+
+def boundary_codes(rng, contract, phases, bits):
+    """A beat on the half-slot grid: one leg at a random code, every other leg a few half
+    slots (``FULL >> (b + 1)``) above or below it, or anywhere on that grid now and then,
+    give or take a code. From an empty integrator ``T_i - T_j = N (c_i - c_j)``, so the
+    legs' rounded instants, measured from the clamped leg, land on the quantiser's decision
+    boundaries (odd multiples), on the slot grid (even ones) and right next to both."""
+    b = min(bits, contract.width - 2)
+    step, spread = max(1, contract.full >> (b + 1)), 1 << (b + 1)
+    base = rng.randint(contract.code_min // 2, contract.code_max // 2)
+    side = rng.choice([-1, 1])                   # the first leg is the largest or the smallest
+    codes = [base] + [base + side * (rng.randint(0, 2) if rng.random() < 0.8
+                                     else rng.randint(-spread, spread)) * step
+                      + rng.choice([-1, 0, 1]) for _ in range(phases - 1)]
+    rng.shuffle(codes)
+    return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
+
+
+def tie_codes(rng, contract, phases):
+    """A beat on which two ``largest_duty`` candidates tie for the largest (sort2's
+    smallest-position rule decides). From an empty integrator, with ``g_j`` the gaps between
+    the sorted codes: ``d_0 / N = FULL - sum g``, ``d_j / N = g_j``."""
+    full = contract.full
+    x = rng.randint(-(-full // phases), full // 2)          # the tied value, the largest
+    first, second = sorted(rng.sample(range(phases), 2))     # the tied candidates
+    gaps = [None] * (phases - 1)
+    for j in (first, second):
+        if j:
+            gaps[j - 1] = x
+    free = [k for k, g in enumerate(gaps) if g is None]
+    # d_0 = x exactly when it ties, else at most x; every other gap at most x
+    total = (full - 2 * x if first == 0
+             else rng.randint(max(0, full - 3 * x), len(free) * x))
+    for left, k in enumerate(free[::-1]):
+        gaps[k] = total if left == len(free) - 1 else rng.randint(
+            max(0, total - x * (len(free) - 1 - left)), min(x, total))
+        total -= gaps[k]
+    top = rng.randint(contract.code_min + sum(gaps), contract.code_max)
+    codes = [top - sum(gaps[:k]) for k in range(phases)]
+    rng.shuffle(codes)
+    return codes
 
 
 def _period_for(rng, model, mode, b):
@@ -92,6 +138,8 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
     amplitude, offset = 0.9 * lin, 0.0
     offered, longest, holding, sync_at = None, 0, False, -1
+    # boundaries: update starts left in a trial, counted once its first beat is taken
+    starts_left, beat_taken = 0, False
     next_change = rng.randint(1, segment)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in OUTPUTS}
@@ -139,10 +187,20 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             amplitude = rng.uniform(0.0, 0.4) * lin
         if scenario in RESETS and rng.random() < RESETS[scenario]:
             rst = 1                                   # reset mid-run
+        if scenario == "boundaries" and starts_left == 0:
+            rst, starts_left, beat_taken = 1, rng.randint(2, 3), False   # a new trial from reset
+            mode = rng.choice([0, 1, 1, 2, 2, 3, 3, 4, 4])
+            bits = rng.choice(bits_choices)
+            period = _period_for(rng, model, mode, bits)
+            osr, policy = 1, rng.randint(0, 1)
+            offered = (tie_codes(rng, contract, n) if mode == 0 and rule == "largest_duty"
+                       else boundary_codes(rng, contract, n, bits))
         if offered is None and rng.random() < 0.7:    # idle gaps between beats
             angle += step
             pick = rng.random()
-            if scenario == "extremes" or (scenario == "limits" and pick < 0.3):
+            if scenario == "boundaries":
+                offered = boundary_codes(rng, contract, n, bits)
+            elif scenario == "extremes" or (scenario == "limits" and pick < 0.3):
                 offered = extreme_codes(rng, contract, n)
             elif scenario == "limits" and pick < 0.7:
                 offered = grid_codes(rng, contract, n, max(bits, 1))
@@ -157,8 +215,10 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
         out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
                          zero_policy=policy, sync_in=sync_in, mode=mode, bits=bits)
         if valid and out["ref_ready"] and not rst:
-            offered = None
+            offered, beat_taken = None, True
         holding = holding and not out["start"]
+        if out["start"] and not rst and beat_taken:
+            starts_left = max(0, starts_left - 1)
         if scenario == "limits" and out["start"] and cycle > cycles // 2:
             sync_at = sync_delay(rng, cycle)
         for name, value in (("rst", rst), ("ref__valid", valid),

@@ -34,4 +34,16 @@ READINGS: dict[str, str] = {
         "`rst`, B its reset value 0): the mutation gives it 512 for the one clock after a "
         "reset. `slot_m2` is written every clock and read only when a layout is loaded, which "
         "never happens in the clock after a reset (the pipeline's valid flags are reset too).",
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[21] const1":
+        "equivalent by reading, not proven: the reset multiplexer of the AXI front's held write "
+        "data (select `rst`): the mutation sets bit 21 of its reset value; the word is loaded "
+        "by the W handshake before any write is issued, so the reset value is never used.",
+    "rtl/mdfqm_gateware/top.py:383 top $and#0 A[2] cnot1/1":
+        "equivalent by construction, not proven: formal-only logic (a ghost register of the "
+        "top's properties, elaborated with `formal=True` as the proofs are); after the "
+        "properties are removed nothing reads it, no output can change.",
+    "rtl/mdfqm_gateware/top.py:435 top $reduce_bool#0 A[6] const0":
+        "equivalent by construction, not proven: formal-only logic (a ghost register of the "
+        "top's properties, elaborated with `formal=True` as the proofs are); after the "
+        "properties are removed nothing reads it, no output can change.",
 }
