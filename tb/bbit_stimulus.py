@@ -22,7 +22,8 @@ Scenarios:
 - ``boundaries``: short trials from reset, each a random mode and b at its shortest periods,
   every beat on the half-slot grid (:func:`boundary_codes`): from reset the integrators are
   empty, so the first update's instants sit exactly on the quantiser's decision boundaries
-  and the duty sort's ties (a closed loop only wanders onto them now and then);
+  and the duty sort's ties (a closed loop only wanders onto them now and then); half the
+  slot-mode trials end with MDFQM updates (the fewest-transitions zero state after a layout);
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
   ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
 """
@@ -139,7 +140,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     amplitude, offset = 0.9 * lin, 0.0
     offered, longest, holding, sync_at = None, 0, False, -1
     # boundaries: update starts left in a trial, counted once its first beat is taken
-    starts_left, beat_taken = 0, False
+    starts_left, beat_taken, to_mdfqm = 0, False, False
     next_change = rng.randint(1, segment)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in OUTPUTS}
@@ -187,6 +188,8 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             amplitude = rng.uniform(0.0, 0.4) * lin
         if scenario in RESETS and rng.random() < RESETS[scenario]:
             rst = 1                                   # reset mid-run
+        if to_mdfqm:      # an MDFQM update after the layout: its zero state follows the last slot's
+            mode, policy, to_mdfqm = 0, 1, False
         if scenario == "boundaries" and starts_left == 0:
             rst, starts_left, beat_taken = 1, rng.randint(2, 3), False   # a new trial from reset
             mode = rng.choice([0, 1, 1, 2, 2, 3, 3, 4, 4])
@@ -219,6 +222,8 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
         holding = holding and not out["start"]
         if out["start"] and not rst and beat_taken:
             starts_left = max(0, starts_left - 1)
+            if scenario == "boundaries" and starts_left == 1 and mode and rng.random() < 0.5:
+                to_mdfqm, starts_left = True, 2      # from the next clock: see above
         if scenario == "limits" and out["start"] and cycle > cycles // 2:
             sync_at = sync_delay(rng, cycle)
         for name, value in (("rst", rst), ("ref__valid", valid),
