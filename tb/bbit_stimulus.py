@@ -22,7 +22,7 @@ Scenarios:
 - ``boundaries``: short trials from reset, each a random mode and b at its shortest periods,
   every beat on the half-slot grid (:func:`boundary_codes`): from reset the integrators are
   empty, so the first update's instants sit exactly on the quantiser's decision boundaries
-  and the duty sort's ties (a closed loop only wanders onto them now and then); half the
+  and the duty sort's ties (a closed loop only wanders onto them now and then); 3 in 4
   slot-mode trials end with MDFQM updates (the fewest-transitions zero state after a layout);
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
   ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
@@ -222,7 +222,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
         holding = holding and not out["start"]
         if out["start"] and not rst and beat_taken:
             starts_left = max(0, starts_left - 1)
-            if scenario == "boundaries" and starts_left == 1 and mode and rng.random() < 0.5:
+            if scenario == "boundaries" and starts_left == 1 and mode and rng.random() < 0.75:
                 to_mdfqm, starts_left = True, 2      # from the next clock: see above
         if scenario == "limits" and out["start"] and cycle > cycles // 2:
             sync_at = sync_delay(rng, cycle)

@@ -27,7 +27,7 @@ from mdfqm_gateware.sort import SortNetwork
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import Contract, sorting_network
-from mdfqm_spec.regmap import ADDR_WIDTH
+from mdfqm_spec.regmap import ADDR_WIDTH, COUNTER_WIDTH
 
 # ---------------------------------------------------------------------- leg and gate driver
 
@@ -282,6 +282,18 @@ def test_sby_finds_a_watchdog_that_does_not_stop_the_gates(monkeypatch):
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(UnwiredWatchdogTop(3, 16, dead_min=2, formal=True), "top_watchdog_unwired", 14,
                 tasks=("bmc",), keep_failed=False)
+
+
+def test_sby_finds_a_total_counter_that_misses_events(monkeypatch):
+    """The top whose total counter never counts (its next value tied to 0): "EVENTS_TOTAL is
+    not the count of every leg's turn-ons" has a counterexample at the first turn-on."""
+    monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
+    site = assertion_site(top_module.__file__,
+                          "EVENTS_TOTAL is not the count of every leg's turn-ons")
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
+        run_sby(MdfqmTop(3, 16, dead_min=2, formal=True), "top_total_uncounted", 14,
+                tasks=("bmc",), keep_failed=False,
+                mutation=("cd dut", f"connect -set total_next {COUNTER_WIDTH + 1}'d0", "cd"))
 
 
 def test_sby_finds_an_unbounded_integrator():

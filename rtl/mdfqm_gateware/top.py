@@ -373,7 +373,7 @@ class MdfqmTop(wiring.Component):
         ]
 
         if self.formal:
-            self._properties(m, ctrl, dead, driver)
+            self._properties(m, ctrl, dead, driver, (events, total, count_clear))
             self._watchdog_properties(m, core.start, arrival, wd_timeout, wd_tripped, wd_quiet,
                                       watchdog_clear, driver)
             if self.max_bits:
@@ -463,8 +463,10 @@ class MdfqmTop(wiring.Component):
             m.d.comb += Cover(turn_on & (core.mode_in_force == code))
         m.d.comb += Cover(turn_on & slot_edge)
 
-    def _properties(self, m, ctrl, dead, driver):
-        """Reset gives all off until enabled; the dead-time register never below the floor."""
+    def _properties(self, m, ctrl, dead, driver, counters):
+        """Reset gives all off until enabled; the dead-time register never below the floor;
+        the switching counters count (``counters``: the legs', the total, the clear)."""
+        self._counter_properties(m, *counters, driver)
         enabled_since_reset = Signal()          # reset by the domain's reset
         rst_prev = Signal(reset_less=True)
         m.d.sync += [enabled_since_reset.eq(enabled_since_reset | ctrl[0]),
@@ -476,4 +478,29 @@ class MdfqmTop(wiring.Component):
                    "invariant: active before any enable"),
             Assert(dead >= self.dead_min, "DEAD below the floor"),
             Cover(enabled_since_reset & ~all_off),
+        ]
+
+    def _counter_properties(self, m, events, total, clear, driver):
+        """Each leg's switching counter counts the driver's turn-on events of its leg, the
+        total those of every leg (both modulo ``2**counter_width``), a CMD.COUNT_CLEAR zeroes
+        them; and (the invariant that closes the induction) the total is the legs' sum."""
+        n, width = self.phases, self.counter_width
+        events_prev = Signal.like(events, reset_less=True, name="formal_events_prev")
+        total_prev = Signal(width, reset_less=True, name="formal_total_prev")
+        event_prev = Signal(n, reset_less=True, name="formal_event_prev")
+        clear_prev = Signal(reset_less=True, name="formal_count_clear_prev")
+        rst_prev = Signal(reset_less=True, name="formal_count_rst_prev")
+        m.d.sync += [events_prev.eq(events), total_prev.eq(total), event_prev.eq(driver.event),
+                     clear_prev.eq(clear), rst_prev.eq(ResetSignal())]
+        for i in range(n):
+            counted = (events_prev[i] + event_prev[i])[:width]
+            m.d.comb += Assert(rst_prev | (events[i] == Mux(clear_prev, 0, counted)),
+                               f"EVENTS_{i} is not the count of leg {i}'s turn-ons")
+        counted = (total_prev + sum(event_prev[i] for i in range(n)))[:width]
+        m.d.comb += [
+            Assert(rst_prev | (total == Mux(clear_prev, 0, counted)),
+                   "EVENTS_TOTAL is not the count of every leg's turn-ons"),
+            Assert(total == sum(events[i] for i in range(n))[:width],
+                   "invariant: EVENTS_TOTAL is the sum of the legs' counters"),
+            Cover(clear_prev & (total_prev != 0)),
         ]

@@ -302,8 +302,15 @@ class CellIndex:
         return value if value in ("0", "1") else None
 
 
+#: the ports of a memory (a ROM Yosys infers from a constant table) a mutation may touch:
+#: Yosys's Verilog writer needs the others (the read port's clock, enable and resets)
+#: constant, and fails an internal assertion on the multiplexer ``mutate -ctrl`` puts there
+MEMORY_PORTS = ("RD_ADDR", "RD_DATA")
+
+
 def parse_list(lines: Iterable[str], index: CellIndex) -> list[Mutation]:
-    """The mutations of ``mutate -list`` output lines (the ``none`` line dropped)."""
+    """The mutations of ``mutate -list`` output lines (the ``none`` line and a memory's
+    control ports dropped)."""
     out = []
     for line in lines:
         words = line.split()
@@ -316,6 +323,8 @@ def parse_list(lines: Iterable[str], index: CellIndex) -> list[Mutation]:
         if mode == "none":
             continue
         cell, port, bit = opts["cell"][0], opts["port"][0], int(opts["portbit"][0])
+        if index.cells[cell]["type"].startswith("$mem") and port not in MEMORY_PORTS:
+            continue
         ctrlbit = int(opts["ctrlbit"][0]) if "ctrlbit" in opts else None
         wire = (f"{opts['wire'][0]}[{opts['wirebit'][0]}]" if "wire" in opts else "")
         key = index.key(cell, port, bit, mode, ctrlbit)

@@ -120,3 +120,25 @@ def test_the_bits_where_a_mutation_shows(driver_netlist):
     named = stages.mutated_bits(sim, flop, "Q", 1)
     assert len(named) <= 1 and all(b.endswith("[1]") for b in named)
     assert stages.mutated_bits(sim, flop, "D", 1) == named
+
+
+def test_a_memorys_control_ports_are_not_drawn():
+    """A ROM's read-port reset, enable or clock behind ``mutate -ctrl``'s multiplexer fails
+    Yosys's Verilog writer (an internal assertion): only its address and data are mutated."""
+
+    class Index:
+        def __init__(self):
+            self.cells = {"rom": {"type": "$mem_v2"}, "gate": {"type": "$and"}}
+
+        def key(self, cell, port, bit, mode, ctrlbit):
+            return f"{cell} {port}[{bit}] {mode}"
+
+        def init(self, cell, port, bit):
+            return None
+
+    lines = [f"mutate -mode {mode} -module dut -cell {cell} -port {port} -portbit 0 -src /a.py:1"
+             for mode, cell, port in (("const0", "rom", "RD_ARST"), ("inv", "rom", "RD_EN"),
+                                      ("inv", "rom", "RD_DATA"), ("inv", "rom", "RD_ADDR"),
+                                      ("const1", "gate", "A"))]
+    assert [m.key for m in netlist.parse_list(lines, Index())] == \
+        ["rom RD_DATA[0] inv", "rom RD_ADDR[0] inv", "gate A[0] const1"]
