@@ -47,13 +47,18 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     amplitude = 0.5                     # of Vdc
 
     def settings():
+        # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
+        # trigger counter's upper bits)
+        long = rng.random() < 0.1
+        period = rng.randint(4400, 6000) if long else rng.choice([90, 130, 170])
         return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
-                      (regs.PERIOD, 1, rng.choice([90, 130, 170])),
+                      (regs.PERIOD, 1, period),
                       # a dead time at the floor (0 acts as dead_min) or above it
                       (regs.DEAD, 1, rng.choice([0, component.dead_min,
                                                  component.dead_min + rng.randrange(1, 24)])),
                       (regs.MIN_PULSE, 1, rng.randrange(8)),
-                      (regs.ADC_OFFSET, 1, rng.randrange(100)),
+                      (regs.ADC_OFFSET, 1, rng.randint(4096, period - 1) if long
+                       else rng.randrange(100)),
                       (regs.WATCHDOG, 1, rng.choice([0, 2, 4])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
@@ -77,7 +82,11 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         walk16 = (*(1 << k for k in range(32)), *(0xFFFF ^ (1 << k) for k in range(16)))
         walk8 = tuple(w for k in range(8) for w in (1 << k, 0xFF ^ (1 << k)))
         codes = (contract.code_max, contract.code_max + 1, contract.code_min,
-                 contract.code_min - 1, (1 << 31) - 1, -(1 << 31))
+                 contract.code_min - 1, (1 << 31) - 1, -(1 << 31),
+                 # a single one in a positive word, a single zero in a negative one: each bit
+                 # of the clamp's in-range test decides alone
+                 *(1 << k for k in range(contract.width - 1, 31)),
+                 *(~(1 << k) for k in range(contract.width - 1, 31)))
         values = {regs.PERIOD: (0, 1, *big, *walk16),
                   regs.OSR: (0, 1, 255, 256, 0xFFFFFFFF, *walk8),
                   regs.DEAD: (0, 1, *big, *walk16), regs.MIN_PULSE: (0, *big, *walk16),

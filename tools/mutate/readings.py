@@ -5,17 +5,6 @@ simply not printed."""
 
 __all__ = ["READINGS"]
 
-#: the AXI4-Lite top's counter bits its run never reaches
-_COUNTER_HOLE = (
-    "a hole of the AXI4-Lite top's run: a bit of a switching counter (`EVENTS_<k>`, "
-    "`EVENTS_TOTAL`, or the sum feeding it) that its 50,000-clock run never sets: the "
-    "firmware reads every counter now and then, but clears them so often that they stay below"
-    " about 25 (measured over seeds 1 and 2). The Wishbone top's longer runs (4 x 225,000 "
-    "clocks) measure the same logic. A proof that each counter counts its leg's turn-ons and "
-    "the total is their sum would catch every bit (written, not landed: see the closing note "
-    "of issue 15)."
-)
-
 READINGS: dict[str, str] = {
     "rtl/mdfqm_gateware/reference.py:47 reference $mux#0 A[3] const0":
         "equivalent by reading, not proven: the mutation clears bit 3 of `scaled` only while it"
@@ -101,20 +90,43 @@ READINGS: dict[str, str] = {
         "equivalent by reading, not proven: `more` becomes `i_bbit` alone; it differs only when"
         " a layout has one slot (`i_slots == 0`, b = 0), and a layout is loaded only in a slot "
         "mode, whose b the clamp keeps in 1..max_bits (docs/contract.md; `latch_mode`).",
-    "rtl/mdfqm_gateware/top.py:207 top $dff#0 Q[40] cnot1/92":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:207 top $dff#0 Q[85] cnot1/15":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:208 top $dff#0 Q[15] cnot1/17":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:350 top $add#0 Y[6] const0":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:207 top $dff#0 Q[40] const0":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:207 top $dff#0 Q[72] const0":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:208 top $mux#0 A[20] const0":
-        _COUNTER_HOLE,
-    "rtl/mdfqm_gateware/top.py:207 top $dff#0 Q[36] const0":
-        _COUNTER_HOLE,
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#1 B[10] cnot1/23":
+        "equivalent by reading, not proven: the AXI front's held write data keeps its value in "
+        "a write's clock (B, selected by the write); the mutation changes bit 10 of what it "
+        "keeps. After a write the W slot is empty, and the next write cannot issue before a W "
+        "handshake reloads the word: the changed value is never written.",
+    "rtl/mdfqm_gateware/fronts.py:136 front $mux#4 B[5] inv":
+        "equivalent by reading, not proven: the AXI front's held write address keeps its value "
+        "in a write's clock; the mutation inverts bit 5 of what it keeps. After a write the AW "
+        "slot is empty, and the next write cannot issue before an AW handshake reloads the "
+        "address.",
+    "rtl/mdfqm_gateware/fronts.py:136 front $mux#2 B[4] const1":
+        "equivalent by reading, not proven: the reset value of an AXI front's held address (B, "
+        "selected by `rst`) gets bit 4 set; an address is used only once its slot is full, and "
+        "a handshake loads it in the same clock the slot fills, so the reset value is never "
+        "read (the read address feeds only the register read multiplexer, without side "
+        "effects).",
+    "rtl/mdfqm_gateware/top.py:435 top $reduce_bool#0 A[10] const0":
+        "equivalent by construction, not proven: formal-only logic (the watchdog's ghost count "
+        "of the top's properties, elaborated with `formal=True` as the proofs are); after the "
+        "properties are removed nothing reads it, no output can change.",
+    "rtl/mdfqm_gateware/top.py:360 top $mux#0 B[1] cnot1/0":
+        "a hole no simulation reaches: a write of IRQ_STATUS with bit 0 set clears COUNTER_WRAP"
+        " (bit 1) the other way round. COUNTER_WRAP is set only when EVENTS_TOTAL passes 2**32 "
+        "- 1 (2**32 turn-ons, 43 s at 100 MHz even if a leg switched every clock). A proof of "
+        "IRQ_STATUS's write-1-to-clear would catch it; the top's proofs state irq from "
+        "IRQ_STATUS, not IRQ_STATUS from its sources.",
+    "rtl/mdfqm_gateware/resolution.py:181 core.quantiser $add#0 B[2] const1":
+        "equivalent by reading, not proven: the offset of the min-clamped zero split (`o2`, "
+        "used by dpwm1 and by dpwm when `max + min < 0`) is 4 larger (bit 2 of `2 NF + NF >> b`"
+        " is clear for b <= 8). `V_i = 2 (min - T_i) + 2 NF + NF / S` is a multiple of 6 (every"
+        " `T_i - T_j` is a multiple of N: the reference stage gives `R_i = N c_i - sum c`, "
+        "every feedback `U_i - U_j` is N times a whole number of units, and the integrators "
+        "start at 0), as is every decision boundary `j 2 NF / S`: +4 never crosses one, nor the"
+        " sign.",
+    "rtl/mdfqm_gateware/resolution.py:250 core.quantiser $and#2 B[4] cnot0/6":
+        "equivalent by reading, not proven: bit 6 of `lo_mask` is clear only for b = 0 and b = "
+        "1. For b = 1 every quotient is a multiple of 2**7, so bit 4 of `quotient / 2` is 0 and"
+        " the extra mask bit changes nothing; for b = 0 (MDFQM) the layout's bounds are loaded "
+        "but never used (no slot boundary follows).",
 }
