@@ -98,7 +98,7 @@ DESIGNS = {
     "core": (lambda: MdfqmCore(PHASES, WIDTH, RULE), "mdfqm_core", core_runs, 3000),
     "generator": (lambda: GatingSignalGenerator(PHASES, WIDTH, RULE, MAX_BITS),
                   "gating_signal_generator", generator_runs, 2500),
-    "top": (lambda: MdfqmTop(PHASES, WIDTH, max_bits=MAX_BITS), "mdfqm_top", top_runs, 40_000),
+    "top": (lambda: MdfqmTop(PHASES, WIDTH, max_bits=MAX_BITS), "mdfqm_top", top_runs, 60_000),
 }
 
 

@@ -46,11 +46,15 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     expected = {port: [] for port, _ in outputs}
     amplitude = 0.5                     # of Vdc
 
-    def settings():
+    hold = [0]      # no restore of the settings before this cycle: a long update runs out
+
+    def settings(now=0):
         # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
-        # trigger counter's upper bits)
+        # trigger counter's upper bits), left alone (no restore, no sync) for two of them
         long = rng.random() < 0.1
         period = rng.randint(4400, 6000) if long else rng.choice([90, 130, 170])
+        if long:
+            hold[0] = now + 2 * period
         return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
                       (regs.PERIOD, 1, period),
                       # a dead time at the floor (0 acts as dead_min) or above it
@@ -121,7 +125,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     for cycle in range(cycles):
         rst = int(cycle == 0 or cycle == cycles // 2)
         if rst:
-            ops, current = settings(), None
+            ops, current = settings(cycle), None
         if not ops and rng.random() < 0.02:      # firmware: reads, commits, clears, settings
             ops.extend(rng.choice([
                 [(rng.randrange(64), 0, 0)],
@@ -142,8 +146,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         burst = burst_start <= cycle < burst_end
         # firmware restoring its settings now and then (random writes may leave a dead time
         # of 65535 clocks or the enable off: the gates would stop switching for good)
-        if cycle == burst_end or (not ops and rng.random() < 0.0005):
-            ops.extend(settings())
+        if cycle == burst_end or (not ops and cycle >= hold[0] and rng.random() < 0.0005):
+            ops.extend(settings(cycle))
             ops.append((regs.CMD, 1, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR))
         if burst and not ops:
             ops.append(rng.choice([
@@ -198,7 +202,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if burst and rng.random() < 0.01:
             fault_until = cycle + rng.randrange(3)
         fault_in = int(cycle <= fault_until)
-        sync_in = int(rng.random() < (0.05 if burst else 0.003))
+        sync_in = int(cycle >= hold[0] and rng.random() < (0.05 if burst else 0.003))
         payload, valid = offered or [0] * phases, int(offered is not None)
         modes.add(getattr(model.core, "mode_lat", 0))
         if census is not None and not rst:
