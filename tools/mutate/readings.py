@@ -5,16 +5,6 @@ simply not printed."""
 
 __all__ = ["READINGS"]
 
-#: the ADC trigger counter's upper bits, which the top's runs reach too seldom
-_ADC_HOLE = (
-    "a hole of the top's runs: the ADC trigger counter's bits from 2**9 up change the "
-    "trigger only in an update longer than that, with ADC_OFFSET beyond it. The runs' long "
-    "updates (1 settings write in 10: PERIOD 4,400-6,000, ADC_OFFSET 4,096 up) give few "
-    "such triggers (measured: 2 gaps between triggers over 4,096 clocks in the AXI4-Lite "
-    "run, 3 in one Wishbone run). A directed test, one long update per ADC_OFFSET bit, "
-    "would kill it."
-)
-
 READINGS: dict[str, str] = {
     "rtl/mdfqm_gateware/reference.py:47 reference $mux#0 A[3] const0":
         "equivalent by reading, not proven: the mutation clears bit 3 of `scaled` only while it"
@@ -139,10 +129,6 @@ READINGS: dict[str, str] = {
         "1. For b = 1 every quotient is a multiple of 2**7, so bit 4 of `quotient / 2` is 0 and"
         " the extra mask bit changes nothing; for b = 0 (MDFQM) the layout's bounds are loaded "
         "but never used (no slot boundary follows).",
-    "rtl/mdfqm_gateware/top.py:217 top $dff#0 Q[3] cnot1/9":
-        _ADC_HOLE,
-    "rtl/mdfqm_gateware/top.py:369 top $mux#0 Y[2] cnot1/12":
-        _ADC_HOLE,
     "rtl/mdfqm_gateware/top.py:217 top $mux#0 A[11] cnot1/16":
         "equivalent by reading, not proven: bit 16 of the ADC trigger counter is set only "
         "65,536 clocks after an update start, and an update lasts at most 65,535 clocks (PERIOD"
