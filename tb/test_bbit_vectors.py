@@ -9,8 +9,9 @@ import random
 
 import pytest
 
-from bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
+from bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate, tie_codes
 from mdfqm_gateware.generator import GatingSignalGenerator
+from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec.contract import Contract
 from vectors import VectorBench
 
@@ -62,3 +63,17 @@ def test_bbit_limits_vectors():
     result = bench.run(stim, expected, name="limits")
     assert result["cycles"] == LIMITS_CYCLES
     assert result["mismatches"] == 0, f"seed {seed}:\n" + "\n".join(result["first"])
+
+
+@pytest.mark.parametrize("phases", [3, 4, 5, 7])
+def test_tie_codes_tie_the_largest_candidates(phases):
+    """The ``boundaries`` scenario's MDFQM beats: from an empty integrator, two largest_duty
+    candidates of the model tie for the largest, and every code is in range."""
+    contract = Contract(phases, 16)
+    rng = random.Random(phases)
+    for _ in range(500):
+        codes = tie_codes(rng, contract, phases)
+        assert all(contract.code_min <= c <= contract.code_max for c in codes), codes
+        rho, _ = sort1(remove_common_mode(codes, phases))
+        values = candidates(rho, contract, "largest_duty")
+        assert values.count(max(values)) >= 2, (codes, values)

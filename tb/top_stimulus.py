@@ -46,15 +46,16 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     expected = {port: [] for port, _ in outputs}
     amplitude = 0.5                     # of Vdc
 
-    hold = [0]      # no restore of the settings before this cycle: a long update runs out
+    hold = 0        # no restore of the settings, no sync before this cycle: a long update runs out
 
-    def settings(now=0):
+    def settings(now):
+        nonlocal hold
         # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
         # trigger counter's upper bits), left alone (no restore, no sync) for two of them
         long = rng.random() < 0.1
         period = rng.randint(4400, 6000) if long else rng.choice([90, 130, 170])
         if long:
-            hold[0] = now + 2 * period
+            hold = now + 2 * period
         return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
                       (regs.PERIOD, 1, period),
                       # a dead time at the floor (0 acts as dead_min) or above it
@@ -76,7 +77,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             data &= 0x3F
         return address, 1, data
 
-    def limit_writes():
+    def limit_writes(now):
         """Every register at and beyond the values its clamp changes (docs/top.md, "Every
         clamp"), each read back, with the gates disabled (a dead time or minimum pulse of
         65535 clocks never in force), then the settings again."""
@@ -103,7 +104,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         for address, words in values.items():
             for word in words:
                 writes += [(address, 1, word), (address, 0, 0)]
-        return writes + settings()
+        return writes + settings(now)
 
     mode_codes = []
 
@@ -114,7 +115,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             mode_codes.extend(rng.sample(range(8), 8))
         return mode_codes.pop()
 
-    ops = settings()
+    ops = settings(0)
     current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
     was_on = 0
     burst_start = cycles * 7 // 10
@@ -146,7 +147,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         burst = burst_start <= cycle < burst_end
         # firmware restoring its settings now and then (random writes may leave a dead time
         # of 65535 clocks or the enable off: the gates would stop switching for good)
-        if cycle == burst_end or (not ops and cycle >= hold[0] and rng.random() < 0.0005):
+        if cycle == burst_end or (not ops and cycle >= hold and rng.random() < 0.0005):
             ops.extend(settings(cycle))
             ops.append((regs.CMD, 1, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR))
         if burst and not ops:
@@ -158,7 +159,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             ]))
             gap = 0
         if cycle == cycles * 2 // 5:           # every register at its clamps
-            ops.extend(limit_writes())
+            ops.extend(limit_writes(cycle))
         if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
             ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2])))
         if current is None and ops and gap == 0:
@@ -202,7 +203,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if burst and rng.random() < 0.01:
             fault_until = cycle + rng.randrange(3)
         fault_in = int(cycle <= fault_until)
-        sync_in = int(cycle >= hold[0] and rng.random() < (0.05 if burst else 0.003))
+        sync_in = int(cycle >= hold and rng.random() < (0.05 if burst else 0.003))
         payload, valid = offered or [0] * phases, int(offered is not None)
         modes.add(getattr(model.core, "mode_lat", 0))
         if census is not None and not rst:
