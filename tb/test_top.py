@@ -488,8 +488,8 @@ def build_interrupt(b, rng, p):
     for cycle in range(8000):
         fault_in = int(cycle % 1500 in range(700, 706))
         clear_due |= cycle % 1500 == 720
-        if cycle % 1000 == 0:
-            b.modulation()
+        if cycle % 1000 == 0:           # MDFQM while the minimum pulse is long: its commands
+            b.modulation(mode=0 if cycle == 3000 else None)  # change often enough to be cut
         if cycle in (3000, 3600):
             b.write(regs.MIN_PULSE, 30 if cycle == 3000 else 0)
         if cycle == 5000:               # a trip: a 2-update timeout, the stream pauses until

@@ -32,7 +32,7 @@ TB = ROOT / "tb"
 if str(TB) not in sys.path:
     sys.path.insert(0, str(TB))
 
-from harness import PARAMS_ENV, verilator_build_env  # noqa: E402
+from harness import PARAMS_ENV, SEED_ENV, verilator_build_env  # noqa: E402
 from vectors import VectorBench, pack_words  # noqa: E402
 from vectors import verilog_name as v  # noqa: E402
 
@@ -184,7 +184,8 @@ def _cocotb_child(spec: dict) -> None:
                           hdl_toplevel_lang="verilog",
                           build_dir=spec["build_dir"], test_dir=work,
                           testcase=spec["testcase"], plusargs=[f"+mutsel={spec['mutant']}"],
-                          extra_env={PARAMS_ENV: json.dumps(spec["params"])},
+                          extra_env={PARAMS_ENV: json.dumps(spec["params"]),
+                                     SEED_ENV: str(spec["seed"])},
                           seed=spec["seed"],
                           results_xml=str(work / "results.xml"))
     total, failed = get_results(results)
