@@ -27,7 +27,7 @@ from mdfqm_gateware.sort import SortNetwork
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import Contract, sorting_network
-from mdfqm_spec.regmap import ADDR_WIDTH, COUNTER_WIDTH
+from mdfqm_spec.regmap import ADDR_WIDTH, COUNTER_WIDTH, IRQ_MASK
 
 # ---------------------------------------------------------------------- leg and gate driver
 
@@ -294,6 +294,18 @@ def test_sby_finds_a_total_counter_that_misses_events(monkeypatch):
         run_sby(MdfqmTop(3, 16, dead_min=2, formal=True), "top_total_uncounted", 14,
                 tasks=("bmc",), keep_failed=False,
                 mutation=("cd dut", f"connect -set total_next {COUNTER_WIDTH + 1}'d0", "cd"))
+
+
+def test_sby_finds_an_irq_status_that_events_do_not_set(monkeypatch):
+    """A top whose IRQ_STATUS is never set (its register tied to 0): "IRQ_STATUS is not set by
+    its events and cleared by writing 1s" has a counterexample at the first event."""
+    monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
+    site = assertion_site(top_module.__file__,
+                          "IRQ_STATUS is not set by its events and cleared by writing 1s")
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
+        run_sby(MdfqmTop(3, 16, dead_min=2, formal=True), "top_irq_unset", 14,
+                tasks=("bmc",), keep_failed=False,
+                mutation=("cd dut", f"connect -set irq_status {IRQ_MASK.bit_length()}'d0", "cd"))
 
 
 def test_sby_finds_an_unbounded_integrator():

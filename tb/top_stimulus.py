@@ -5,6 +5,7 @@ outputs from :class:`mdfqm_model.top.TopModel`: used by the drop-in files' vecto
 import math
 from collections import deque
 
+from bbit_stimulus import boundary_codes, tie_codes
 from core_stimulus import extreme_codes, sine_codes
 from harness import pack
 from mdfqm_model.top import TopModel
@@ -25,9 +26,10 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``
     (sines from near zero into overmodulation, extreme codes, ties), a fault pulse and its
     clear, a stall of the stream (the watchdog on at times), sync pulses and a reset in the
-    middle; on Wishbone, ``cyc`` or ``stb`` alone while idle and ``cyc`` raised before ``stb``
-    at times; the settings make the gates switch within a few thousand clocks; MODULATION
-    written now and then (any mode code, any b code, mostly small); a burst of back-to-back
+    middle and four more (after each reset, a beat whose largest candidates tie); on Wishbone,
+    ``cyc`` or ``stb`` alone while idle and ``cyc`` raised before ``stb`` at times; the settings
+    make the gates switch within a few thousand clocks; MODULATION written now and then (any
+    mode code, any b code, mostly small); a burst of back-to-back
     commands and clears (``CMD`` with random bits, ``IRQ_STATUS`` write-1-to-clear, settings)
     under frequent fault and sync pulses, so that writes land in the same clock as the other
     events; every register written at and beyond its clamps and read back, the gates disabled
@@ -123,10 +125,16 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     aw_done = w_done = ar_done = False
     fault_until = -1
     modes = set()
+    # resets: at the start, in the middle, and four more short trials of a tie
+    resets = {0, cycles // 2, *(cycles * k // 16 for k in (3, 5, 11, 13))}
     for cycle in range(cycles):
-        rst = int(cycle == 0 or cycle == cycles // 2)
+        rst = int(cycle in resets)
         if rst:
             ops, current = settings(cycle), None
+            # from reset the integrators are empty and MDFQM runs: the first update's
+            # largest candidates tie exactly (docs/robustness.md, "equal references")
+            offered = (tie_codes(rng, contract, phases) if component.rule == "largest_duty"
+                       else boundary_codes(rng, contract, phases, 1))
         if not ops and rng.random() < 0.02:      # firmware: reads, commits, clears, settings
             ops.extend(rng.choice([
                 [(rng.randrange(64), 0, 0)],

@@ -359,8 +359,8 @@ class MdfqmTop(wiring.Component):
         irq_events = Cat(*(sources[1 << bit] for bit in range(irq_bits)))
         cleared = Mux(written(regmap.IRQ_STATUS), word[:irq_bits], 0)
         status_next = (irq_status & ~cleared) | irq_events
-        # irq from the registers as they are, not from their next values: a clock later, but off
-        # the path from the bus decode (the top's Fmax path on the UP5K otherwise)
+        irq_formal = (port, irq_status, irq_events)         # for _irq_properties
+        # irq from the registers, not their next values: off the bus decode's path (UP5K Fmax)
         m.d.sync += [irq_status.eq(status_next),
                      self.irq.eq((irq_status & irq_enable).any())]
 
@@ -373,7 +373,7 @@ class MdfqmTop(wiring.Component):
         ]
 
         if self.formal:
-            self._properties(m, ctrl, dead, driver, (events, total, count_clear))
+            self._properties(m, ctrl, dead, driver, (events, total, count_clear), irq_formal)
             self._watchdog_properties(m, core.start, arrival, wd_timeout, wd_tripped, wd_quiet,
                                       watchdog_clear, driver)
             if self.max_bits:
@@ -463,10 +463,12 @@ class MdfqmTop(wiring.Component):
             m.d.comb += Cover(turn_on & (core.mode_in_force == code))
         m.d.comb += Cover(turn_on & slot_edge)
 
-    def _properties(self, m, ctrl, dead, driver, counters):
+    def _properties(self, m, ctrl, dead, driver, counters, irq):
         """Reset gives all off until enabled; the dead-time register never below the floor;
-        the switching counters count (``counters``: the legs', the total, the clear)."""
+        the switching counters count (``counters``: the legs', the total, the clear);
+        IRQ_STATUS as documented (``irq``: the register port, the status, its events)."""
         self._counter_properties(m, *counters, driver)
+        self._irq_properties(m, *irq)
         enabled_since_reset = Signal()          # reset by the domain's reset
         rst_prev = Signal(reset_less=True)
         m.d.sync += [enabled_since_reset.eq(enabled_since_reset | ctrl[0]),
@@ -503,4 +505,26 @@ class MdfqmTop(wiring.Component):
             Assert(total == sum(events[i] for i in range(n))[:width],
                    "invariant: EVENTS_TOTAL is the sum of the legs' counters"),
             Cover(clear_prev & (total_prev != 0)),
+        ]
+
+    def _irq_properties(self, m, port, status, events):
+        """IRQ_STATUS as docs/top.md has it: 0 after reset; each bit set the clock after its
+        event, cleared by a write of IRQ_STATUS with a 1 in that bit (an event in the same clock
+        wins), held otherwise. The write is decoded again here from the port's registered
+        inputs: a property built from the design's own decode would follow its faults."""
+        w_en = Signal(reset_less=True, name="formal_irq_w_en")
+        w_adr = Signal.like(port.w_adr, reset_less=True, name="formal_irq_w_adr")
+        w_data = Signal(len(status), reset_less=True, name="formal_irq_w_data")
+        status_prev = Signal.like(status, reset_less=True, name="formal_irq_status_prev")
+        events_prev = Signal(len(status), reset_less=True, name="formal_irq_events_prev")
+        rst_prev = Signal(reset_less=True, name="formal_irq_rst_prev")
+        m.d.sync += [w_en.eq(port.w_en), w_adr.eq(port.w_adr), w_data.eq(port.w_data),
+                     status_prev.eq(status), events_prev.eq(events),
+                     rst_prev.eq(ResetSignal())]
+        ones = Mux(w_en & (w_adr == regmap.IRQ_STATUS), w_data, 0)
+        m.d.comb += [
+            Assert(~rst_prev | (status == 0), "IRQ_STATUS is not 0 after reset"),
+            Assert(rst_prev | (status == (events_prev | (status_prev & ~ones))),
+                   "IRQ_STATUS is not set by its events and cleared by writing 1s"),
+            Cover(~rst_prev & (status_prev & ones & ~events_prev).any()),
         ]

@@ -11,8 +11,10 @@ then runs, stopping at the first failure (:mod:`.stages`):
    clock against the golden model);
 2. the block's cocotb tests, then its SymbiYosys proof with the mutation applied to the proof's
    own netlist;
-3. for a survivor, an equivalence check of the mutant against the original: *equivalent*,
-   *not equivalent* (a hole in the tests) or *undecided*.
+3. for a survivor, an equivalence check of the mutant against the original (a longer
+   simulation; the block's proof with an assertion that the mutated bit never differs; Yosys
+   ``equiv`` by induction; a bounded miter): *equivalent*, *not equivalent* (a hole in the
+   tests) or *undecided*.
 
 Results go to a database per block (``build/mutate/<block>/results.json``, keyed by mutation
 keys that name the source line and the kind of mutation, not netlist cells), which a later run

@@ -22,7 +22,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .blocks import BLOCKS, Block
-from .netlist import ROOT, BlockNetlist, Mutation, mutsel_width, wrapper, write_formal_mutant
+from .netlist import (
+    ROOT,
+    BlockNetlist,
+    Mutation,
+    mutsel_width,
+    wrapper,
+    write_formal_mutant,
+    write_invariant_probe,
+)
 from .stages import (
     MutantBench,
     cocotb_build,
@@ -30,6 +38,7 @@ from .stages import (
     run_cocotb,
     run_equivalence,
     run_formal,
+    run_invariant,
     run_vectors,
 )
 
@@ -260,7 +269,8 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
     record = {"mutant": mutant, "stages": stages, "log": []}
     if previous is not None:
         record["log"] = [line for line in previous.get("log", [])
-                         if not line.startswith(("equivalence:", "deeper simulation:"))]
+                         if not line.startswith(("equivalence:", "deeper simulation:",
+                                                 "invariant:"))]
         stages = [s for s in stages if s == "equivalence"]
 
     def done(status, stage, detail):
@@ -283,10 +293,10 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
             record["log"].append(f"cocotb: {result['detail']}")
             if result["killed"]:
                 return done("killed", "cocotb", result["detail"])
+    as_mutation = Mutation(**{**mutation, "src": tuple(mutation["src"])}) if mutant else None
     if "formal" in stages and block.formal_depth is not None:
-        mutant_il = (write_formal_mutant(
-            directory, Mutation(**{**mutation, "src": tuple(mutation["src"])}),
-            f"formal-{mutant}") if mutant else None)
+        mutant_il = (write_formal_mutant(directory, as_mutation, f"formal-{mutant}")
+                     if mutant else None)
         result = run_formal(block.build(True), f"mutant_{block.name}_{mutant}",
                             block.formal_depth, mutant_il)
         if mutant_il:
@@ -303,6 +313,14 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
             return done("survived", "equivalence",
                         f"not equivalent: a longer simulation than the tests' (the same "
                         f"stimulus, other seeds) differs: {result['detail']}")
+        if mutant and block.formal_depth is not None and mutation["mode"] != "inv":
+            probe = write_invariant_probe(directory, as_mutation, f"probe-{mutant}")
+            result = run_invariant(block.build(True), f"probe_{block.name}_{mutant}",
+                                   block.formal_depth, probe)
+            probe.unlink()
+            record["log"].append(f"invariant: {result['detail']}")
+            if result["verdict"] == "equivalent":
+                return done("equivalent", "equivalence", result["detail"])
         result = run_equivalence(directory, directory / "mutants.il", context["module"],
                                  context["ports"], context["width"], mutant,
                                  context["eq_depth"], context["eq_timeout"],

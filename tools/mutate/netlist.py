@@ -43,7 +43,7 @@ from pathlib import Path
 __all__ = [
     "BlockNetlist", "CellIndex", "Mutation", "location", "mutsel_width", "normalize_inits",
     "parse_list", "same_cells", "short_src", "split_cell", "switch_sources", "wrapper",
-    "write_formal_mutant", "yosys"
+    "write_formal_mutant", "write_invariant_probe", "yosys"
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -418,6 +418,66 @@ def write_formal_mutant(directory: Path, mutation: Mutation, name: str) -> Path:
     for suffix in (".json", ".log", ".ys"):
         (directory / f"{name}{suffix}").unlink()
     return (directory / f"{name}.il").resolve()
+
+
+#: the mutation's multiplexer that ``mutate -ctrl`` inserts: ``A`` the original bit, ``B`` the
+#: mutated one
+_CTRL_MUX = re.compile(r"  cell \$mux \$auto\$mutate\.cc:\d+:mutate_ctrl_mux\$\d+\n(.*?)\n  end\n",
+                       re.S)
+#: the assertion :func:`write_invariant_probe` adds (``{original}``, ``{mutated}``: RTLIL bits)
+_PROBE_CELLS = """  wire $mutation_probe_same
+  cell $eq $mutation_probe_eq
+    parameter \\A_SIGNED 0
+    parameter \\B_SIGNED 0
+    parameter \\A_WIDTH 1
+    parameter \\B_WIDTH 1
+    parameter \\Y_WIDTH 1
+    connect \\A {original}
+    connect \\B {mutated}
+    connect \\Y $mutation_probe_same
+  end
+  cell $check $mutation_probe_assert
+    parameter \\TRG_WIDTH 0
+    parameter \\TRG_POLARITY 0
+    parameter \\TRG_ENABLE 0
+    parameter signed \\PRIORITY 0
+    parameter \\FORMAT "the mutated bit differs from the original"
+    parameter \\FLAVOR "assert"
+    parameter \\ARGS_WIDTH 0
+    connect \\TRG {{ }}
+    connect \\EN 1'1
+    connect \\ARGS {{ }}
+    connect \\A $mutation_probe_same
+  end
+  connect \\mutation_probe 1'0
+"""
+
+
+def write_invariant_probe(directory: Path, mutation: Mutation, name: str) -> Path:
+    """``<directory>/<name>.il``: the proof's netlist (``base.il``, its properties kept),
+    unchanged in behaviour, with one more assertion: the bit that ``mutation`` replaces always
+    equals the value the mutation would give it. ``mutate -ctrl`` inserts the mutation behind a
+    multiplexer (its control tied off here, so the design is the original) whose two inputs
+    are the original and the mutated bit; the assertion compares them. When the block's proof
+    still passes, no state reachable from power-up tells the mutant from the original: the
+    mutant is equivalent. (An ``inv`` mutation always differs: it is never worth a probe.)"""
+    directory = Path(directory)
+    yosys(["read_rtlil base.il", "add -wire mutation_probe 1",
+           *mutation.commands("-ctrl mutation_probe 1 1"), *INIT_FIXUP,
+           f"write_rtlil {name}.il", f"write_json {name}.json"], directory, f"{name}.log")
+    path = directory / f"{name}.il"
+    normalize_inits(path, directory / f"{name}.json", "dut")
+    text = path.read_text()
+    muxes = _CTRL_MUX.findall(text)
+    if len(muxes) != 1:
+        raise RuntimeError(f"{mutation.key}: {len(muxes)} mutate multiplexers in {path}")
+    ports = dict(re.findall(r"connect \\([AB]) (.+)", muxes[0]))
+    end = text.rindex("\nend")
+    path.write_text(text[:end + 1] + _PROBE_CELLS.format(original=ports["A"],
+                                                         mutated=ports["B"]) + text[end + 1:])
+    for suffix in (".json", ".log", ".ys"):
+        (directory / f"{name}{suffix}").unlink()
+    return path.resolve()
 
 
 def wrapper(toplevel: str, inner: str, ports, width: int) -> str:

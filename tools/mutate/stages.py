@@ -7,11 +7,11 @@
    netlist, built once per test module, ``+mutsel=k``), then the block's SymbiYosys proof
    (:func:`formal.run_sby`, the one mutation applied to the proof's own netlist with its
    properties kept);
-3. ``equivalence`` for the survivors: a miter of the mutant against the original (both from the
-   power-up state, the same inputs, every output compared every clock), in Yosys ``sat``:
-   temporal induction (``-tempinduct``) up to ``depth`` clocks. A counterexample: *not
-   equivalent* (a hole in the tests); the induction proven: *equivalent*; neither within the
-   depth or the time limit: *undecided*.
+3. ``equivalence`` for the survivors: a longer simulation; the block's proof with one more
+   assertion, that the mutated bit always equals the original (:func:`run_invariant`); Yosys
+   ``equiv`` passes by induction, then a bounded miter from reset
+   (:func:`run_equivalence`). A difference: *not equivalent* (a hole in the tests); a proof:
+   *equivalent*; neither within the time limits: *undecided*.
 """
 
 from __future__ import annotations
@@ -45,6 +45,7 @@ __all__ = [
     "run_cocotb",
     "run_equivalence",
     "run_formal",
+    "run_invariant",
     "run_vectors",
 ]
 
@@ -224,6 +225,24 @@ def run_formal(component, name: str, depth: int, mutant_il: Path | None) -> dict
     return {"killed": False, "detail": "proof passes"}
 
 
+def run_invariant(component, name: str, depth: int, probe_il: Path) -> dict:
+    """The first step of stage 3: the block's proof on ``probe_il``
+    (:func:`netlist.write_invariant_probe`: the original, and an assertion that the mutated
+    bit always equals the original one). Passing, it proves the mutant *equivalent*: in every
+    state reachable from power-up the mutation changes nothing. Otherwise *undecided* (a
+    mutated bit that differs somewhere may still never reach an output: the next steps try).
+    ``{"verdict": ..., "detail": str}``."""
+    result = run_formal(component, name, depth, probe_il)
+    if not result["killed"]:
+        return {"verdict": "equivalent",
+                "detail": "proven (the block's proof, k-induction to depth "
+                          f"{depth}: the mutated bit equals the original in every reachable "
+                          "state)"}
+    return {"verdict": "undecided",
+            "detail": "the mutated bit can differ from the original "
+                      + result["detail"].removeprefix("proof").lstrip(": ")}
+
+
 def assertion_message(path: str, line: int) -> str:
     """The message of the ``Assert`` whose call starts at ``path:line``."""
     lines = Path(path).read_text().splitlines()
@@ -327,25 +346,36 @@ def mutated_bits(netlist_json: Path, cell: str, port: str, bit: int) -> list[str
     return sorted(found)
 
 
+#: at most this many ``equiv`` proofs per mutant (each unpairs what the one before could not
+#: prove)
+EQUIV_ROUNDS = 12
+_UNPROVEN = re.compile(r"Unproven \$equiv \S+: \\(\S+)_gold ")
+
+
 def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width: int,
                     mutant: int, depth: int, timeout: float, changed: tuple[str, ...] = ()
                     ) -> dict:
-    """Stage 3 (see the module docstring), in two steps, each one process:
+    """Stage 3 after :func:`run_invariant` (see the module docstring), each step one process:
 
     1. a proof of equivalence with Yosys's ``equiv`` passes: the original (mutsel 0) and the
-       mutant, each flattened and optimised, every signal of one name in both paired
+       mutant, each flattened and optimised, the signals of one name in both paired
        (``equiv_make``, the wires split into bits); every pair equal in the first two clocks
        from power-up with reset in the first (``sat``, the base case) and every pair proven
-       to stay equal (``equiv_simple``, ``equiv_induct``: the induction step): *equivalent*.
-       Tried twice: every pair (a mutated register whose copies stay equal is proven only
-       while paired), then without the bits where the mutation shows (``changed``, from
-       :func:`mutated_bits`: a mutation no output sees is never proven while they are paired);
-       either proof is sound;
+       to stay equal while all pairs are (``equiv_simple``, ``equiv_induct``: the induction
+       step): the outputs, paired too, are then equal in every clock: *equivalent*. First
+       every pair (a mutated register whose copies stay equal is proven only while paired),
+       then without the bits where the mutation shows (``changed``, from
+       :func:`mutated_bits`), then, round after round, without every pair the round before
+       could not prove (a difference that stays inside: ``count[15]`` differs once
+       ``slot_m2[15]`` does), the greatest set of pairs that holds by induction (as van
+       Eijk's method). A round that cannot prove an output pair ends the proof: the outputs
+       are never unpaired. Every round's proof is sound on its own;
     2. otherwise a bounded check from reset, SymbiYosys ``bmc`` (the miter's two copies
        combined by ``fmcombine``, yices) to ``depth`` clocks within :data:`BMC_SECONDS`: a
        counterexample is *not equivalent*, none is *undecided*.
 
-    ``timeout``: seconds of each ``equiv`` proof.
+    ``timeout``: seconds of each ``equiv`` proof; at most :data:`EQUIV_ROUNDS` of them and
+    three timeouts in all.
 
     ``{"verdict": ..., "detail": str}``."""
     work = Path(directory).resolve() / f"eq-{mutant}"
@@ -355,10 +385,14 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
     netlist = Path(netlist_il).resolve()
     (work / "pair.v").write_text(plain_pair(module, ports, width, mutant))
     (work / "equiv_assert.v").write_text(EQUIV_AS_ASSERT)
-    # every pair first (a mutated register whose two copies stay equal is proven by
-    # induction only while paired), then without the bits where the mutation shows
-    for step, unpaired in enumerate(dict.fromkeys(((), tuple(changed)))):
-        (work / f"unpaired{step}.txt").write_text("".join(f"u.{n}\n" for n in unpaired))
+    outputs = {f"u.{n}" for n, _ in ports[1]}
+    budget = time.monotonic() + 3 * timeout
+    unpaired: tuple[str, ...] = ()
+    for step in range(EQUIV_ROUNDS):
+        left = min(timeout, budget - time.monotonic())
+        if left <= 0:
+            break
+        (work / f"unpaired{step}.txt").write_text("".join(f"{n}\n" for n in unpaired))
         (work / f"equiv{step}.ys").write_text("\n".join([
             "read_verilog -formal equiv_assert.v", "proc", "design -stash equivmap",
             f"read_rtlil {netlist}", "read_verilog pair.v", "flatten gold gate",
@@ -370,17 +404,27 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
             "equiv_simple -seq 1", "equiv_induct -seq 1", "equiv_status -assert"]) + "\n")
         try:
             subprocess.run([YOSYS, "-q", "-l", f"equiv{step}.log", "-s", f"equiv{step}.ys"],
-                           cwd=work, capture_output=True, text=True, timeout=timeout)
+                           cwd=work, capture_output=True, text=True, timeout=left)
             log = (work / f"equiv{step}.log").read_text()
         except subprocess.TimeoutExpired:
-            log = ""
+            break
         if ("SAT proof finished - no model found: SUCCESS!" in log
                 and "Equivalence successfully proven!" in log):
             shutil.rmtree(work, ignore_errors=True)
-            how = "every signal paired" if not unpaired else f"{len(unpaired)} bits unpaired"
+            how = ("every signal paired" if not unpaired
+                   else f"{len(unpaired)} bits unpaired, round {step + 1}")
             return {"verdict": "equivalent",
                     "detail": f"proven (Yosys equiv_make/equiv_simple/equiv_induct, {how}; "
                               "base case by sat)"}
+        if "SAT proof finished - no model found: SUCCESS!" not in log:
+            break                        # the base case fails: unpairing cannot mend it
+        unproven = set(_UNPROVEN.findall(log))
+        if step == 0:
+            unproven |= {f"u.{n}" for n in changed}
+        if not unproven or any(not n.startswith("u.") or n.split("[")[0] in outputs
+                               for n in unproven):
+            break
+        unpaired = tuple(sorted(set(unpaired) | unproven))
     (work / "miter.sv").write_text(miter_verilog(module, ports, width, mutant))
     prep = [f"read_rtlil {netlist}", "read_verilog -formal -sv miter.sv", "prep -top miter",
             f"memory_map {module}", "opt -fast", "fmcombine -initeq miter gold gate",

@@ -1,12 +1,16 @@
 # amaranth: UnusedElaboratable=no
 """tools/mutate without a campaign: mutation keys name source and kind and come back to the same
 cell, a flop's mutated bit keeps its power-up value, the wrapper and the miter have the block's
-ports, the report reads a counterexample and tallies a database. The campaign itself is
+ports, the report reads a counterexample and tallies a database, an invariant probe proves
+only a mutation that changes nothing. The campaign itself is
 ``make mutate``; its sample in ``make test`` is tb/test_mutation_sample.py."""
 
 from pathlib import Path
 
 import pytest
+from amaranth import Cat, Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import Out
 
 from mdfqm_gateware.driver import GateDriver
 from tools.mutate import campaign, netlist, report, stages
@@ -142,3 +146,31 @@ def test_a_memorys_control_ports_are_not_drawn():
                                       ("const1", "gate", "A"))]
     assert [m.key for m in netlist.parse_list(lines, Index())] == \
         ["rom RD_DATA[0] inv", "rom RD_ADDR[0] inv", "gate A[0] const1"]
+
+
+class _Decade(wiring.Component):
+    """A counter from 0 to 9 (its bits 3 and 2 are never both set) and its parity."""
+
+    o: Out(2)
+
+    def elaborate(self, platform):
+        m = Module()
+        count = Signal(4)
+        m.d.sync += count.eq(Mux(count == 9, 0, count + 1))
+        m.d.comb += self.o.eq(Cat(count[3] & count[2], count[0]))
+        return m
+
+
+def test_an_invariant_probe_proves_only_a_mutation_that_changes_nothing():
+    """The probe: the mutated bit always equals the original. ``count[3] & count[2]`` stuck
+    at 0 changes nothing (the counter never reaches 12): proven equivalent by the block's
+    k-induction. Stuck at 1 it differs from the first clock: not proven."""
+    decade = BlockNetlist(_Decade(), BUILD / "decade")
+    gate = next(name for name, cell in decade.index.cells.items() if cell["type"] == "$and")
+    verdicts = {}
+    for mode in ("const0", "const1"):
+        mutation = decade.index.resolve(decade.index.key(gate, "Y", 0, mode, None))
+        probe = netlist.write_invariant_probe(decade.directory, mutation, f"probe-{mode}")
+        assert "the mutated bit differs from the original" in probe.read_text()
+        verdicts[mode] = stages.run_invariant(_Decade(), f"decade_{mode}", 5, probe)["verdict"]
+    assert verdicts == {"const0": "equivalent", "const1": "undecided"}
