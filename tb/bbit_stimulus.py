@@ -32,6 +32,7 @@ import math
 
 import core_stimulus
 from core_stimulus import (
+    OSR_MAX,
     PERIOD_MAX,
     extreme_codes,
     limit_osr,
@@ -138,7 +139,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     osr, policy = rng.choice([1, 2, 4]), rng.randint(0, 1)
     angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
     amplitude, offset = 0.9 * lin, 0.0
-    offered, longest, holding, sync_at = None, 0, False, -1
+    offered, longest, longest_osr, holding, sync_at = None, 0, 0, False, -1
     # boundaries: update starts left in a trial, counted once its first beat is taken
     starts_left, beat_taken, to_mdfqm = 0, False, False
     next_change = rng.randint(1, segment)
@@ -171,7 +172,8 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                         period = _period_for(rng, model, min(mode, len(MODES) - 1),
                                              min(max(bits, 1), max_bits))
                     longest, holding = max(longest, period), period == PERIOD_MAX
-                osr = limit_osr(rng)
+                osr = limit_osr(rng) if longest_osr == OSR_MAX else OSR_MAX   # the largest first
+                longest_osr = max(longest_osr, osr)
                 amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
         if scenario == "switch" and rng.random() < 1 / 150:
             mode = rng.choice([0, 0, 1, 2, 3, 4, rng.randint(0, 7)])

@@ -10,7 +10,7 @@ from core_stimulus import extreme_codes, sine_codes
 from harness import pack
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
-from mdfqm_spec.contract import Contract
+from mdfqm_spec.contract import MODES, Contract
 from vectors import ports_of
 
 #: (cyc, stb) of an idle Wishbone master clock: neither, cyc alone, stb alone (never a request)
@@ -54,7 +54,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         nonlocal hold
         # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
         # trigger counter's upper bits), left alone (no restore, no sync) for two of them
-        long = rng.random() < 0.1
+        long = rng.random() < 0.1 and not missing_modes()     # (a long one holds a mode)
         period = rng.randint(4400, 6000) if long else rng.choice([90, 130, 170])
         if long:
             hold = now + 2 * period
@@ -109,10 +109,18 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         return writes + settings(now)
 
     mode_codes = []
+    modes = set()
+
+    def missing_modes():
+        built = len(MODES) if component.max_bits else 1
+        return sorted(set(range(built)) - modes)
 
     def next_mode():
-        """Every mode code (0-7) once in each round, in a random order: every mode is in force
-        in a short run too."""
+        """A mode not yet in force first, then every mode code (0-7) once in each round, in a
+        random order: every mode is in force in a short run too (a mode is taken only at an
+        update start, and the next MODULATION write may come first)."""
+        if missing_modes():
+            return rng.choice(missing_modes())
         if not mode_codes:
             mode_codes.extend(rng.sample(range(8), 8))
         return mode_codes.pop()
@@ -124,7 +132,6 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     burst_end = burst_start + max(4000, cycles // 8)
     aw_done = w_done = ar_done = False
     fault_until = -1
-    modes = set()
     # resets: at the start, in the middle, and four more short trials of a tie
     resets = {0, cycles // 2, *(cycles * k // 16 for k in (3, 5, 11, 13))}
     for cycle in range(cycles):
