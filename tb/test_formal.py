@@ -284,28 +284,22 @@ def test_sby_finds_a_watchdog_that_does_not_stop_the_gates(monkeypatch):
                 tasks=("bmc",), keep_failed=False)
 
 
-def test_sby_finds_a_total_counter_that_misses_events(monkeypatch):
-    """The top whose total counter never counts (its next value tied to 0): "EVENTS_TOTAL is
-    not the count of every leg's turn-ons" has a counterexample at the first turn-on."""
+@pytest.mark.parametrize(("broken", "message"), [
+    # the total counter never counts (its next value tied to 0)
+    (f"total_next {COUNTER_WIDTH + 1}'d0", "EVENTS_TOTAL is not the count of every leg's turn-ons"),
+    # IRQ_STATUS never set (its register tied to 0)
+    (f"irq_status {IRQ_MASK.bit_length()}'d0",
+     "IRQ_STATUS is not set by its events and cleared by writing 1s"),
+], ids=["total_uncounted", "irq_status_unset"])
+def test_sby_finds_a_top_register_that_misses_events(broken, message, monkeypatch):
+    """A top whose total counter, or IRQ_STATUS, ignores its events: the property has a
+    counterexample at the first one."""
     monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
-    site = assertion_site(top_module.__file__,
-                          "EVENTS_TOTAL is not the count of every leg's turn-ons")
+    site = assertion_site(top_module.__file__, message)
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
-        run_sby(MdfqmTop(3, 16, dead_min=2, formal=True), "top_total_uncounted", 14,
+        run_sby(MdfqmTop(3, 16, dead_min=2, formal=True), f"top_{broken.split()[0]}_broken", 14,
                 tasks=("bmc",), keep_failed=False,
-                mutation=("cd dut", f"connect -set total_next {COUNTER_WIDTH + 1}'d0", "cd"))
-
-
-def test_sby_finds_an_irq_status_that_events_do_not_set(monkeypatch):
-    """A top whose IRQ_STATUS is never set (its register tied to 0): "IRQ_STATUS is not set by
-    its events and cleared by writing 1s" has a counterexample at the first event."""
-    monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
-    site = assertion_site(top_module.__file__,
-                          "IRQ_STATUS is not set by its events and cleared by writing 1s")
-    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
-        run_sby(MdfqmTop(3, 16, dead_min=2, formal=True), "top_irq_unset", 14,
-                tasks=("bmc",), keep_failed=False,
-                mutation=("cd dut", f"connect -set irq_status {IRQ_MASK.bit_length()}'d0", "cd"))
+                mutation=("cd dut", f"connect -set {broken}", "cd"))
 
 
 def test_sby_finds_an_unbounded_integrator():
