@@ -125,6 +125,18 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             mode_codes.extend(rng.sample(range(8), 8))
         return mode_codes.pop()
 
+    bits_codes = []
+
+    def next_bits():
+        """Mostly small b (short updates), else every b of the slot modes in turn (their
+        per-b tables: b = 5 and 6 alone set some bits) and now and then any code."""
+        if rng.random() < 0.6:
+            return rng.choice([1, 2, 3, 15, rng.randrange(16)])
+        if not bits_codes:
+            bits_codes.extend(rng.sample(range(1, max(component.max_bits, 1) + 1),
+                                         max(component.max_bits, 1)))
+        return bits_codes.pop()
+
     ops = settings(0)
     current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
     was_on = 0
@@ -152,7 +164,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                 [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
                 [random_write()],
                 [(regs.MODULATION, 1, next_mode() << regs.MODULATION_MODE_SHIFT
-                  | rng.choice([1, 2, 3, 15, rng.randrange(16)]) << regs.MODULATION_BITS_SHIFT),
+                  | next_bits() << regs.MODULATION_BITS_SHIFT),
                  (regs.MODULATION, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
                 # every switching counter read (not only right after a clear)
