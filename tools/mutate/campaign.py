@@ -140,11 +140,14 @@ class BlockCampaign:
     def _load(self) -> dict:
         self._loaded_baseline = None
         self.rechecked = {}
+        #: the campaign time of the earlier run resumed (read here, before this run saves)
+        self._seconds_before = 0.0
         if not self.settings.resume or not self.db_path.exists():
             return {}
         db = json.loads(self.db_path.read_text())
         if db.get("design") != self.design_hash or db.get("seed") != self.settings.seed:
             return {}
+        self._seconds_before = db.get("seconds", 0.0)
         self._loaded_baseline = db.get("baseline")
         drawn = {m.key for m in self.mutations}
         results = {key: r for key, r in db.get("results", {}).items()
@@ -162,27 +165,17 @@ class BlockCampaign:
               "seed": self.settings.seed, "jobs": self.settings.jobs,
               "count": len(self.mutations),
               "stages": list(self.settings.stages),
-              "seconds": round(time.time() - started + self._previous_seconds(), 1),
+              "seconds": round(time.time() - started + self._seconds_before, 1),
               "baseline": self.baseline,
               "mutations": [m.as_dict() for m in self.mutations], "results": self.results}
         tmp = self.db_path.with_suffix(".tmp")
         tmp.write_text(json.dumps(db, indent=1))
         os.replace(tmp, self.db_path)
 
-    def _previous_seconds(self) -> float:
-        if not self.settings.resume or not self.db_path.exists():
-            return 0.0
-        if not hasattr(self, "_seconds_before"):
-            db = json.loads(self.db_path.read_text())
-            self._seconds_before = db.get("seconds", 0.0) if db.get(
-                "design") == self.design_hash else 0.0
-        return self._seconds_before
-
     # ---------------------------------------------------------------- builds
     def prepare(self) -> dict:
         """Build the mutants' netlist, the vector bench, the stimulus; check the original
         passes stage 1. Returns the job context the workers need."""
-        self._previous_seconds()
         self.netlist.write_mutants(self.mutations, self.module)
         net = (self.directory / "mutants.net.v").read_text()
         sources = {}
