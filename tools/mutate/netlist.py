@@ -411,8 +411,14 @@ def write_formal_mutant(directory: Path, mutation: Mutation, name: str) -> Path:
     """``<directory>/<name>.il``: the proof's netlist (``base.il``, its properties kept) with
     the one ``mutation`` applied and its ``init`` values put right, for
     :func:`stages.run_formal`."""
+    return _mutated_base(directory, mutation.commands(), name)
+
+
+def _mutated_base(directory: Path, commands: Sequence[str], name: str) -> Path:
+    """``<directory>/<name>.il``: ``base.il`` after the Yosys ``commands`` (a mutation), its
+    ``init`` values put right."""
     directory = Path(directory)
-    yosys(["read_rtlil base.il", *mutation.commands(), *INIT_FIXUP, f"write_rtlil {name}.il",
+    yosys(["read_rtlil base.il", *commands, *INIT_FIXUP, f"write_rtlil {name}.il",
            f"write_json {name}.json"], directory, f"{name}.log")
     normalize_inits(directory / f"{name}.il", directory / f"{name}.json", "dut")
     for suffix in (".json", ".log", ".ys"):
@@ -461,12 +467,8 @@ def write_invariant_probe(directory: Path, mutation: Mutation, name: str) -> Pat
     are the original and the mutated bit; the assertion compares them. When the block's proof
     still passes, no state reachable from power-up tells the mutant from the original: the
     mutant is equivalent. (An ``inv`` mutation always differs: it is never worth a probe.)"""
-    directory = Path(directory)
-    yosys(["read_rtlil base.il", "add -wire mutation_probe 1",
-           *mutation.commands("-ctrl mutation_probe 1 1"), *INIT_FIXUP,
-           f"write_rtlil {name}.il", f"write_json {name}.json"], directory, f"{name}.log")
-    path = directory / f"{name}.il"
-    normalize_inits(path, directory / f"{name}.json", "dut")
+    path = _mutated_base(directory, ["add -wire mutation_probe 1",
+                                     *mutation.commands("-ctrl mutation_probe 1 1")], name)
     text = path.read_text()
     muxes = _CTRL_MUX.findall(text)
     if len(muxes) != 1:
@@ -475,9 +477,7 @@ def write_invariant_probe(directory: Path, mutation: Mutation, name: str) -> Pat
     end = text.rindex("\nend")
     path.write_text(text[:end + 1] + _PROBE_CELLS.format(original=ports["A"],
                                                          mutated=ports["B"]) + text[end + 1:])
-    for suffix in (".json", ".log", ".ys"):
-        (directory / f"{name}{suffix}").unlink()
-    return path.resolve()
+    return path
 
 
 def wrapper(toplevel: str, inner: str, ports, width: int) -> str:

@@ -110,12 +110,6 @@ READINGS: dict[str, str] = {
         "equivalent by construction, not proven: formal-only logic (the watchdog's ghost count "
         "of the top's properties, elaborated with `formal=True` as the proofs are); after the "
         "properties are removed nothing reads it, no output can change.",
-    "rtl/mdfqm_gateware/top.py:360 top $mux#0 B[1] cnot1/0":
-        "a hole no simulation reaches: a write of IRQ_STATUS with bit 0 set clears COUNTER_WRAP"
-        " (bit 1) the other way round. COUNTER_WRAP is set only when EVENTS_TOTAL passes 2**32 "
-        "- 1 (2**32 turn-ons, 43 s at 100 MHz even if a leg switched every clock). A proof of "
-        "IRQ_STATUS's write-1-to-clear would catch it; the top's proofs state irq from "
-        "IRQ_STATUS, not IRQ_STATUS from its sources.",
     "rtl/mdfqm_gateware/resolution.py:181 core.quantiser $add#0 B[2] const1":
         "equivalent by reading, not proven: the offset of the min-clamped zero split (`o2`, "
         "used by dpwm1 and by dpwm when `max + min < 0`) is 4 larger (bit 2 of `2 NF + NF >> b`"
