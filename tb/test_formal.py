@@ -290,10 +290,12 @@ def test_sby_finds_a_watchdog_that_does_not_stop_the_gates(monkeypatch):
     # IRQ_STATUS never set (its register tied to 0)
     (f"irq_status {IRQ_MASK.bit_length()}'d0",
      "IRQ_STATUS is not set by its events and cleared by writing 1s"),
-], ids=["total_uncounted", "irq_status_unset"])
+    # WATCHDOG_TRIPS never counts (its register tied to 0)
+    ("wd_trips 16'd0", "WATCHDOG_TRIPS is not the saturating count of watchdog trips"),
+], ids=["total_uncounted", "irq_status_unset", "watchdog_trips_uncounted"])
 def test_sby_finds_a_top_register_that_misses_events(broken, message, monkeypatch):
-    """A top whose total counter, or IRQ_STATUS, ignores its events: the property has a
-    counterexample at the first one."""
+    """A top whose total counter, IRQ_STATUS or WATCHDOG_TRIPS ignores its events: the
+    property has a counterexample at the first one."""
     monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
     site = assertion_site(top_module.__file__, message)
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):

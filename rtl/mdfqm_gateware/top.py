@@ -374,8 +374,8 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver, (events, total, count_clear), irq_formal)
-            self._watchdog_properties(m, core.start, arrival, wd_timeout, wd_tripped, wd_quiet,
-                                      watchdog_clear, driver)
+            self._watchdog_properties(m, core.start, arrival, wd_timeout, (wd_tripped, wd_quiet,
+                                      wd_trips), (watchdog_clear, count_clear), driver)
             if self.max_bits:
                 self._mode_covers(m, core, driver)
             irq_was = Signal(reset_less=True)       # IRQ_STATUS & IRQ_ENABLE, a clock ago
@@ -418,10 +418,15 @@ class MdfqmTop(wiring.Component):
         m.d.sync += trips.eq(Mux(trip & (kept != 0xFFFF), kept + 1, kept))
         return tripped, trip, quiet
 
-    def _watchdog_properties(self, m, start, arrival, timeout, tripped, quiet, clear, driver):
+    def _watchdog_properties(self, m, start, arrival, timeout, state, clears, driver):
         """Gates off the clock after the latch is seen (two after the tripping start), held
         until a clear; a trip only at an update start after ``TIMEOUT`` quiet ones (a ghost
-        count, independent of the watchdog's own)."""
+        count, independent of the watchdog's own); WATCHDOG_TRIPS counts the latch's rises,
+        saturating, zeroed by CMD.COUNT_CLEAR (a rise in the clearing clock counts 1).
+        ``state``: the latch, the quiet count, the trip counter; ``clears``: CMD.WATCHDOG_CLEAR,
+        CMD.COUNT_CLEAR."""
+        tripped, quiet, trips = state
+        clear, count_clear = clears
         ghost = Signal(17, reset_less=True, name="formal_wd_quiet")
         tripped_prev = Signal(reset_less=True, name="formal_wd_tripped_prev")
         clear_prev = Signal(reset_less=True, name="formal_wd_clear_prev")
@@ -435,8 +440,17 @@ class MdfqmTop(wiring.Component):
             armed_prev.eq((timeout != 0) & ~arrival & (ghost >= timeout)),
             rst_prev.eq(ResetSignal()),
         ]
+        trips_prev = Signal.like(trips, reset_less=True, name="formal_wd_trips_prev")
+        count_clear_prev = Signal(reset_less=True, name="formal_wd_count_clear_prev")
+        m.d.sync += [trips_prev.eq(trips), count_clear_prev.eq(count_clear)]
+        kept = Mux(count_clear_prev, 0, trips_prev)
+        rose = tripped & ~tripped_prev
         all_off = (driver.up == 0) & (driver.lo == 0)
         m.d.comb += [
+            Assert(~rst_prev | (trips == 0), "WATCHDOG_TRIPS is not 0 after reset"),
+            Assert(rst_prev | (trips == Mux(rose & (kept != 0xFFFF), kept + 1, kept)),
+                   "WATCHDOG_TRIPS is not the saturating count of watchdog trips"),
+            Cover(rose & count_clear_prev),
             Assert(~tripped_prev | all_off, "gates on a clock after the watchdog latch"),
             Assert(~tripped_prev | tripped | clear_prev | rst_prev,
                    "watchdog latch cleared without CMD.WATCHDOG_CLEAR"),
@@ -467,7 +481,8 @@ class MdfqmTop(wiring.Component):
         """Reset gives all off until enabled; the dead-time register never below the floor;
         the switching counters count (``counters``: the legs', the total, the clear);
         IRQ_STATUS as documented (``irq``: the register port, the status, its events)."""
-        self._counter_properties(m, *counters, driver)
+        self._counter_properties(m, *counters, driver,
+                                 irq[2][regmap.IRQ_COUNTER_WRAP.bit_length() - 1])
         self._irq_properties(m, *irq)
         enabled_since_reset = Signal()          # reset by the domain's reset
         rst_prev = Signal(reset_less=True)
@@ -482,18 +497,21 @@ class MdfqmTop(wiring.Component):
             Cover(enabled_since_reset & ~all_off),
         ]
 
-    def _counter_properties(self, m, events, total, clear, driver):
+    def _counter_properties(self, m, events, total, clear, driver, wrap):
         """Each leg's switching counter counts the driver's turn-on events of its leg, the
         total those of every leg (both modulo ``2**counter_width``), a CMD.COUNT_CLEAR zeroes
-        them; and (the invariant that closes the induction) the total is the legs' sum."""
+        them; the interrupt's COUNTER_WRAP event (``wrap``) is the total passing
+        ``2**counter_width``; and (the invariant that closes the induction) the total is the
+        legs' sum."""
         n, width = self.phases, self.counter_width
         events_prev = Signal.like(events, reset_less=True, name="formal_events_prev")
         total_prev = Signal(width, reset_less=True, name="formal_total_prev")
         event_prev = Signal(n, reset_less=True, name="formal_event_prev")
         clear_prev = Signal(reset_less=True, name="formal_count_clear_prev")
         rst_prev = Signal(reset_less=True, name="formal_count_rst_prev")
+        wrap_prev = Signal(reset_less=True, name="formal_count_wrap_prev")
         m.d.sync += [events_prev.eq(events), total_prev.eq(total), event_prev.eq(driver.event),
-                     clear_prev.eq(clear), rst_prev.eq(ResetSignal())]
+                     clear_prev.eq(clear), rst_prev.eq(ResetSignal()), wrap_prev.eq(wrap)]
         for i in range(n):
             counted = (events_prev[i] + event_prev[i])[:width]
             m.d.comb += Assert(rst_prev | (events[i] == Mux(clear_prev, 0, counted)),
@@ -504,6 +522,9 @@ class MdfqmTop(wiring.Component):
                    "EVENTS_TOTAL is not the count of every leg's turn-ons"),
             Assert(total == sum(events[i] for i in range(n))[:width],
                    "invariant: EVENTS_TOTAL is the sum of the legs' counters"),
+            # the legs add at most n a clock: the total wrapped exactly when it went down
+            Assert(rst_prev | (wrap_prev == (~clear_prev & (total < total_prev))),
+                   "the COUNTER_WRAP event is not EVENTS_TOTAL wrapping"),
             Cover(clear_prev & (total_prev != 0)),
         ]
 

@@ -21,7 +21,7 @@ from .campaign import BUILD, EQ_DEPTH, counts
 from .netlist import ROOT
 from .netlist import location as netlist_location
 from .readings import READINGS
-from .stages import BMC_SECONDS
+from .stages import BMC_SECONDS, EQUIV_SEQ
 
 __all__ = ["first_difference", "in_region", "reach", "regions", "write_report"]
 
@@ -181,7 +181,8 @@ def write_report(out: str | Path = "reports", command: str | None = None) -> Pat
              "one (passing, no reachable state tells the mutant apart); then a proof of "
              "equivalence with Yosys's `equiv` passes (the signals of the two netlists paired, "
              "round after round without the pairs the round before could not prove, outputs "
-             "always paired; the base case from power-up by `sat`), then a "
+             f"always paired; each step assumes {EQUIV_SEQ} clocks of equal pairs, the base "
+             "case from power-up by `sat`), then a "
              "bounded check of a miter from reset (SymbiYosys `bmc`, yices, every output every "
              "clock): *not equivalent* (an output differs in the longer simulation or in the "
              "bounded check: a hole in the tests), *equivalent* (proven), or *undecided* (no "

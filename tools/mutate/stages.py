@@ -349,6 +349,10 @@ def mutated_bits(netlist_json: Path, cell: str, port: str, bit: int) -> list[str
 #: at most this many ``equiv`` proofs per mutant (each unpairs what the one before could not
 #: prove)
 EQUIV_ROUNDS = 12
+#: clocks each ``equiv_induct`` step assumes every pair equal (and the base case checks from
+#: reset, one more): a value differing only in the clock after a reset needs more than one
+#: (the generator's ``slot_m2`` reset value: undecided with 1, proven with 3)
+EQUIV_SEQ = 3
 _UNPROVEN = re.compile(r"Unproven \$equiv \S+: \\(\S+)_gold ")
 
 
@@ -359,17 +363,19 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
 
     1. a proof of equivalence with Yosys's ``equiv`` passes: the original (mutsel 0) and the
        mutant, each flattened and optimised, the signals of one name in both paired
-       (``equiv_make``, the wires split into bits); every pair equal in the first two clocks
-       from power-up with reset in the first (``sat``, the base case) and every pair proven
-       to stay equal while all pairs are (``equiv_simple``, ``equiv_induct``: the induction
-       step): the outputs, paired too, are then equal in every clock: *equivalent*. First
+       (``equiv_make``, the wires split into bits); every pair equal in the first
+       :data:`EQUIV_SEQ` + 1 clocks from power-up with reset in the first (``sat``, the base
+       case) and every pair proven to stay equal after :data:`EQUIV_SEQ` clocks in which all
+       pairs are (``equiv_simple``, ``equiv_induct``: the induction step): the outputs,
+       paired too, are then equal in every clock: *equivalent*. First
        every pair (a mutated register whose copies stay equal is proven only while paired),
        then without the bits where the mutation shows (``changed``, from
        :func:`mutated_bits`), then, round after round, without every pair the round before
        could not prove (a difference that stays inside: ``count[15]`` differs once
        ``slot_m2[15]`` does), the greatest set of pairs that holds by induction (as van
-       Eijk's method). A round that cannot prove an output pair ends the proof: the outputs
-       are never unpaired. Every round's proof is sound on its own;
+       Eijk's method; a round whose base case fails goes on without the pairs its
+       induction could not prove). A round that cannot prove an output pair ends the proof:
+       the outputs are never unpaired. Every round's proof is sound on its own;
     2. otherwise a bounded check from reset, SymbiYosys ``bmc`` (the miter's two copies
        combined by ``fmcombine``, yices) to ``depth`` clocks within :data:`BMC_SECONDS`: a
        counterexample is *not equivalent*, none is *undecided*.
@@ -400,8 +406,10 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
             f"equiv_make -blacklist unpaired{step}.txt gold gate equiv",
             "hierarchy -top equiv", "design -save paired",
             "techmap -map %equivmap t:$equiv", "chformal -lower", "opt_clean",
-            "sat -seq 2 -prove-asserts -set-at 1 rst 1 equiv", "design -load paired",
-            "equiv_simple -seq 1", "equiv_induct -seq 1", "equiv_status -assert"]) + "\n")
+            f"sat -seq {EQUIV_SEQ + 1} -prove-asserts -set-at 1 rst 1 equiv",
+            "design -load paired",
+            f"equiv_simple -seq {EQUIV_SEQ}", f"equiv_induct -seq {EQUIV_SEQ}",
+            "equiv_status -assert"]) + "\n")
         try:
             subprocess.run([YOSYS, "-q", "-l", f"equiv{step}.log", "-s", f"equiv{step}.ys"],
                            cwd=work, capture_output=True, text=True, timeout=left)
@@ -419,9 +427,10 @@ def run_equivalence(directory: Path, netlist_il: Path, module: str, ports, width
                     "detail": f"proven (Yosys equiv_make/equiv_simple/equiv_induct, {how}; "
                               "base case by sat)"}
         based = "SAT proof finished - no model found: SUCCESS!" in log
-        if step and not based:
-            break                        # the base case fails (which pair, sat does not say)
-        unproven = set(_UNPROVEN.findall(log)) if based else set()
+        # a failing base case does not say which pair: go on without the pairs the induction
+        # could not prove (the same pairs, mostly: followers of an unpaired register), or
+        # without the mutated bits in the first round; nothing left to drop ends the proof
+        unproven = set(_UNPROVEN.findall(log)) if step or based else set()
         if step == 0:
             unproven |= {f"u.{n}" for n in changed}
         if not unproven or any(not n.startswith("u.") or n.split("[")[0] in outputs

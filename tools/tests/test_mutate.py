@@ -5,12 +5,13 @@ ports, the report reads a counterexample and tallies a database, an invariant pr
 only a mutation that changes nothing. The campaign itself is
 ``make mutate``; its sample in ``make test`` is tb/test_mutation_sample.py."""
 
+import json
 from pathlib import Path
 
 import pytest
 from amaranth import Cat, Module, Mux, Signal
 from amaranth.lib import wiring
-from amaranth.lib.wiring import Out
+from amaranth.lib.wiring import In, Out
 
 from mdfqm_gateware.driver import GateDriver
 from tools.mutate import campaign, netlist, report, stages
@@ -174,3 +175,46 @@ def test_an_invariant_probe_proves_only_a_mutation_that_changes_nothing():
         assert "the mutated bit differs from the original" in probe.read_text()
         verdicts[mode] = stages.run_invariant(_Decade(), f"decade_{mode}", 5, probe)["verdict"]
     assert verdicts == {"const0": "equivalent", "const1": "undecided"}
+
+
+class _HeldAfterReset(wiring.Component):
+    """A register loaded every clock and read only while a valid flag (reset with it) is set:
+    its reset value is never read."""
+
+    d: In(4)
+    valid_in: In(1)
+    o: Out(4)
+
+    def elaborate(self, platform):
+        m = Module()
+        held = Signal(4, name="held")
+        valid = Signal(name="valid")
+        m.d.sync += [held.eq(self.d), valid.eq(self.valid_in)]
+        plus = Signal(4, name="plus")           # a public follower of held
+        m.d.comb += [plus.eq(held + 1), self.o.eq(Mux(valid, plus, 0))]
+        return m
+
+
+def test_the_equivalence_check_proves_an_unread_reset_value_and_finds_a_difference():
+    """``held``'s reset value inverted (the reset multiplexer's ``B``) is never read: proven
+    equivalent, once the rounds go on past a failing base case (``plus``, a follower of the
+    unpaired bit, differs in the clock after reset; the check that stopped there said
+    undecided). Its loaded value inverted (``A``) is read: not equivalent, a counterexample
+    from reset."""
+    from vectors import ports_of
+
+    block = BlockNetlist(_HeldAfterReset(), BUILD / "held")
+    cells = json.loads((block.directory / "sim.json").read_text())["modules"]["dut"]["cells"]
+    # the reset multiplexer of held: B its reset value 0, A the loaded d
+    mux = next(name for name, cell in cells.items() if cell["type"] == "$mux"
+               and cell["connections"]["B"] == ["0"] * 4)
+    verdicts = {}
+    for port in ("B", "A"):
+        mutation = block.index.resolve(block.index.key(mux, port, 1, "inv", None))
+        block.write_mutants([mutation], "held_mutants", f"held_{port}")
+        verdicts[port] = stages.run_equivalence(
+            block.directory, block.directory / f"held_{port}.il", "held_mutants",
+            ports_of(_HeldAfterReset()), netlist.mutsel_width(1), 1, 4, 60,
+            tuple(stages.mutated_bits(block.directory / "sim.json", mux, port, 1)),
+        )["verdict"]
+    assert verdicts == {"B": "equivalent", "A": "not equivalent"}
