@@ -33,7 +33,9 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     commands and clears (``CMD`` with random bits, ``IRQ_STATUS`` write-1-to-clear, settings)
     under frequent fault and sync pulses, so that writes land in the same clock as the other
     events; every register written at and beyond its clamps and read back, the gates disabled
-    meanwhile. Returns (inputs, expected outputs) by port, and the set of modes that were in
+    meanwhile; in a run of 200 000 clocks or more, after the burst, one update longer than
+    32768 clocks with the ADC trigger in its upper half. Returns (inputs, expected outputs) by
+    port, and the set of modes that were in
     force in some clock. ``census``, a dict if given, counts the clocks where a register write
     (``write``) or a ``CMD`` write (``command``) is issued together with each of
     :data:`COINCIDENT`: a reference beat taken, the fault input high, a sync pulse, a gate
@@ -146,6 +148,11 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     fault_until = -1
     # resets: at the start, in the middle, and four more short trials of a tie
     resets = {0, cycles // 2, *(cycles * k // 16 for k in (3, 5, 11, 13))}
+    # after the burst, in a long run: one update of more than 32768 clocks with the ADC trigger
+    # in its upper half (the trigger counter's bit 15), started by two sync pulses once the
+    # period is written, the firmware quiet meanwhile
+    adc_window = burst_end + 1 if cycles >= 200_000 else None
+    adc_syncs = {burst_end + 200, burst_end + 260} if adc_window else set()
     for cycle in range(cycles):
         rst = int(cycle in resets)
         if rst:
@@ -154,7 +161,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             # largest candidates tie exactly (docs/robustness.md, "equal references")
             offered = (tie_codes(rng, contract, phases) if component.rule == "largest_duty"
                        else boundary_codes(rng, contract, phases, 1))
-        if not ops and rng.random() < 0.02:      # firmware: reads, commits, clears, settings
+        firmware_quiet = adc_window is not None and cycle >= adc_window
+        if not ops and not firmware_quiet and rng.random() < 0.02:   # firmware: reads, settings
             ops.extend(rng.choice([
                 [(rng.randrange(64), 0, 0)],
                 [(regs.REF_BASE + i, 1, pack([rng.randrange(-40000, 40000)], 32))
@@ -185,6 +193,11 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                 random_write(), random_write(),
             ]))
             gap = 0
+        if cycle == adc_window:
+            period = rng.randint(33_500, 34_500)
+            ops.extend([(regs.PERIOD, 1, period),
+                        (regs.ADC_OFFSET, 1, rng.randint(32_768, 33_300))])
+            hold = cycle + 2 * period
         if cycle == cycles * 2 // 5:           # every register at its clamps
             ops.extend(limit_writes(cycle))
         if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
@@ -230,7 +243,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if burst and rng.random() < 0.01:
             fault_until = cycle + rng.randrange(3)
         fault_in = int(cycle <= fault_until)
-        sync_in = int(cycle >= hold and rng.random() < (0.05 if burst else 0.003))
+        sync_in = int(cycle in adc_syncs
+                      or (cycle >= hold and rng.random() < (0.05 if burst else 0.003)))
         payload, valid = offered or [0] * phases, int(offered is not None)
         modes.add(getattr(model.core, "mode_lat", 0))
         if census is not None and not rst:

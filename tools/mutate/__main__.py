@@ -11,8 +11,10 @@ See tools/mutate/__init__.py for the method.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import time
+from pathlib import Path
 
 from .blocks import BLOCKS
 from .campaign import DEFAULT_COUNTS, STAGES, Settings, run
@@ -57,7 +59,11 @@ def main(argv=None) -> int:
 
     command = "python -m tools.mutate " + " ".join(sys.argv[1:] if argv is None else argv)
     if args.report_only:
-        print(write_report(args.out, command=None))
+        # the command of the run that made the databases, from the report it wrote
+        previous = Path(args.out) / "MUTATION.md"
+        ran = (re.search(r"^- Command: `([^`]+)`", previous.read_text(), re.M)
+               if previous.exists() else None)
+        print(write_report(args.out, command=ran.group(1) if ran else None))
         return 0
     blocks = tuple(args.blocks.split(","))
     if args.only:

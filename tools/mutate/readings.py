@@ -5,6 +5,13 @@ simply not printed."""
 
 __all__ = ["READINGS"]
 
+#: the AXI front's held write data, a bit of its reset value inverted
+_HELD_WRITE_DATA = (
+    "equivalent by reading, not proven: the reset multiplexer of the AXI front's held write "
+    "data (select `rst`): the mutation inverts bit {bit} of its reset value; the word is loaded"
+    " by the W handshake before any write is issued (`do_write` needs `w_full`), and the "
+    "register file reads `w_data` only with `w_en`, so the reset value is never used.")
+
 READINGS: dict[str, str] = {
     "rtl/mdfqm_gateware/reference.py:47 reference $mux#0 A[3] const0":
         "equivalent by reading, not proven: the mutation clears bit 3 of `scaled` only while it"
@@ -128,4 +135,12 @@ READINGS: dict[str, str] = {
         "65,536 clocks after an update start, and an update lasts at most 65,535 clocks (PERIOD"
         " has 16 bits, and a slot-mode update is PERIOD clocks long too), so the mutation never"
         " acts.",
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[19] inv": _HELD_WRITE_DATA.format(bit=19),
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[1] inv": _HELD_WRITE_DATA.format(bit=1),
+    "rtl/mdfqm_gateware/top.py:409 top $or#2 B[0] const0":
+        "equivalent by reading, not proven: the mutation drops `trip` from the conditions that "
+        "zero the watchdog's quiet count, so in the tripping clock (always an update start) the"
+        " count goes up by one instead. From the next clock the latch is set, which zeroes the "
+        "count again and holds it there until a clear; the count is read only by `trip`, which "
+        "needs the latch clear, and it is not on the bus: the extra count is never read.",
 }
