@@ -35,11 +35,10 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     events; every register written at and beyond its clamps and read back, the gates disabled
     meanwhile; in a run of 200 000 clocks or more, after the burst, one update longer than
     32768 clocks with the ADC trigger in its upper half. Returns (inputs, expected outputs) by
-    port, and the set of modes that were in
-    force in some clock. ``census``, a dict if given, counts the clocks where a register write
-    (``write``) or a ``CMD`` write (``command``) is issued together with each of
-    :data:`COINCIDENT`: a reference beat taken, the fault input high, a sync pulse, a gate
-    turning on; keys like ``("command", "beat")``."""
+    port, and the set of modes that were in force in some clock. ``census``, a dict if given,
+    counts the clocks where a register write (``write``) or a ``CMD`` write (``command``) is
+    issued together with each of :data:`COINCIDENT`: a reference beat taken, the fault input
+    high, a sync pulse, a gate turning on; keys like ``("command", "beat")``."""
     axi = component.bus == "axi4lite"
     model = TopModel(phases, width, component.rule, component.dead_min,
                      component.upper_active_low, component.lower_active_low, bus=component.bus,
