@@ -53,13 +53,13 @@ SAMPLE = {
          "row: reset in the middle of an update"),
     ],
     "generator": [
-        ("rtl/mdfqm_gateware/resolution.py:216 quantiser $sub#3 B[10] const1",
+        ("rtl/mdfqm_gateware/resolution.py:222 quantiser $sub#3 B[10] const1",
          "datapath"),
-        ("rtl/mdfqm_gateware/resolution.py:369 layout $sub#0 A[4] const1",
+        ("rtl/mdfqm_gateware/resolution.py:375 layout $sub#0 A[4] const1",
          "datapath"),
         ("rtl/mdfqm_gateware/sequencer.py:169 sequencer $mux#1 Y[3] cnot1/2",
          "row: illegal generator mode or bits"),
-        ("rtl/mdfqm_gateware/resolution.py:181 quantiser $add#0 Y[9] inv",
+        ("rtl/mdfqm_gateware/resolution.py:183 quantiser $add#0 Y[9] inv",
          "datapath"),
     ],
     "driver": [
@@ -113,9 +113,9 @@ SAMPLE = {
          "row: MODULATION written with a mode not built in"),
     ],
     "top_axi": [
-        ("rtl/mdfqm_gateware/fronts.py:143 front $and#0 Y[0] const1",
+        ("rtl/mdfqm_gateware/fronts.py:145 front $and#0 Y[0] const1",
          "bus handshake (cyc or stb alone)"),
-        ("rtl/mdfqm_gateware/fronts.py:143 front $and#1 A[0] const1",
+        ("rtl/mdfqm_gateware/fronts.py:145 front $and#1 A[0] const1",
          "bus handshake (cyc or stb alone)"),
         ("rtl/mdfqm_gateware/top.py:361 top $and#0 B[3] const1",
          "two events in one clock"),

@@ -71,7 +71,9 @@ class Quantiser(wiring.Component):
        instant) and ``V_i - 2 NF`` (its sign: the top quotient bit); then, with the load of the
        divider, the clamp to ``[0, 2 NF]`` (a select of registers);
     4. ``B`` clocks of restoring division by the constant ``2 NF`` (one quotient bit a clock;
-       after ``b`` bits the rest are forced to 0): ``m_i = q_i 2**(B - b)``;
+       after ``b`` bits the rest are forced to 0): ``m_i = q_i 2**(B - b)``; of ``V_i`` and
+       ``2 NF`` both shifted right by the bits below every boundary ``j 2 NF / 2**B`` (which
+       no quotient depends on);
     5. ``ceil(log2 N)`` clocks of sums over the legs (``sum m``, ``N m_i``), and alongside
        the layout bounds ``lo_i = floor(q_i / 2) 2**(B - b)``, ``hi_i = lo_i + (2**B - m_i)``;
     6. the feedback ``U_i / (FULL / 2**B) = sum_k m_k - N m_i``.
@@ -201,7 +203,11 @@ class Quantiser(wiring.Component):
             m.d.sync += reg.eq(valid[-1])
             valid.append(reg)
         load = valid[3]
-        rem_shape = unsigned(div.bit_length())
+        # every decision boundary j 2 NF / 2**b (b <= B) is a multiple of 2**low, so no quotient
+        # depends on the low bits of V: the divider works on V >> low by 2 NF >> low
+        low = ((div & -div).bit_length() - 1) - big
+        div_low = div >> low
+        rem_shape = unsigned(div_low.bit_length())
         run = Signal(range(big + 1))
         want = Signal(range(big + 1))
         with m.If(load):
@@ -219,15 +225,15 @@ class Quantiser(wiring.Component):
             q = Signal(big, name=f"q{i}")
             # ---- stage 5: B restoring steps, 2 rem - 2NF, one carry chain a clock
             trial = Signal(signed(rem_shape.width + 2), name=f"trial{i}")
-            m.d.comb += trial.eq((rem << 1) - div)
+            m.d.comb += trial.eq((rem << 1) - div_low)
             fits = ~trial[-1]
             with m.If(load):
                 m.d.sync += [
                     top.eq(~v_m[-1]),
-                    rem.eq(Mux(v[-1] | ~v_m[-1], 0, v)),
-                    q.eq(0),
+                    rem.eq(Mux(v[-1] | ~v_m[-1], 0, v[low:])),
                 ]
             with m.Elif(run != 0):
+                # the B shifts push out every bit q held before the load
                 m.d.sync += [
                     rem.eq(Mux(fits, trial, rem << 1)),
                     q.eq(Cat(fits & (want != 0), q[:-1]) if big > 1 else fits & (want != 0)),
