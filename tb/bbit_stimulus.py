@@ -16,14 +16,17 @@ Scenarios:
 - ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
   in random modes;
 - ``limits``: every setting at its ends and at the values its clamp changes: period 0, 1, the
-  minimum and now and then a long one up to 2**16 - 1; OSR 0, 1, 254, 255; mode 0-7 (5-7
-  illegal); bits 0, 1, max_bits, max_bits + 1, 15; extreme codes, codes on the b-bit grid
-  (the quantiser's decision boundaries, :func:`grid_codes`) and overmodulation;
+  minimum and now and then a long one up to 2**16 - 1 (2**16 - 1 itself in a slot mode at b = 1
+  or 2); OSR 0, 1, 254, 255; mode 0-7 (5-7 illegal); bits 0, 1, max_bits, max_bits + 1, 15;
+  extreme codes, codes on the b-bit grid (the quantiser's decision boundaries,
+  :func:`grid_codes`) and overmodulation;
 - ``boundaries``: short trials from reset, each a random mode and b at its shortest periods,
   every beat on the half-slot grid (:func:`boundary_codes`): from reset the integrators are
   empty, so the first update's instants sit exactly on the quantiser's decision boundaries
   and the duty sort's ties (a closed loop only wanders onto them now and then); 3 in 4
   slot-mode trials end with MDFQM updates (the fewest-transitions zero state after a layout);
+  every other trial is a ``dpwm0`` one from :func:`first_slot_codes`, its b and leg in turn
+  (a leg that turns on at the first slot boundary, which the layout decides at its load);
 - :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
   ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
 """
@@ -86,6 +89,22 @@ def boundary_codes(rng, contract, phases, bits):
     return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
 
 
+def first_slot_codes(rng, contract, phases, bits, leg):
+    """A beat whose ``dpwm0`` layout turns ``leg`` on at the first slot boundary: from an empty
+    integrator leg i is off for ``round((c_max - c_i) S / FULL)`` slots at the start, so ``leg``
+    sits 2 to 3 slots below the largest code (give or take a code) and the others anywhere
+    below the largest, which is another leg's."""
+    b = min(bits, contract.width - 2)
+    half = max(1, contract.full >> (b + 1))
+    top = rng.randint(contract.code_min + 8 * half, contract.code_max)
+    largest = rng.choice([i for i in range(phases) if i != leg])
+    codes = [top if i == largest
+             else top - rng.choice([4, 5, 6]) * half + rng.choice([-1, 0, 1]) if i == leg
+             else rng.randint(max(contract.code_min, top - contract.full), top)
+             for i in range(phases)]
+    return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
+
+
 def tie_codes(rng, contract, phases):
     """A beat on which two ``largest_duty`` candidates tie for the largest (sort2's
     smallest-position rule decides). From an empty integrator, with ``g_j`` the gaps between
@@ -141,7 +160,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     amplitude, offset = 0.9 * lin, 0.0
     offered, longest, longest_osr, holding, sync_at = None, 0, 0, False, -1
     # boundaries: update starts left in a trial, counted once its first beat is taken
-    starts_left, beat_taken, to_mdfqm = 0, False, False
+    starts_left, beat_taken, to_mdfqm, trials, first_slot = 0, False, False, 0, False
     next_change = rng.randint(1, segment)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in OUTPUTS}
@@ -172,6 +191,9 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                         period = _period_for(rng, model, min(mode, len(MODES) - 1),
                                              min(max(bits, 1), max_bits))
                     longest, holding = max(longest, period), period == PERIOD_MAX
+                if holding:      # the longest update in a slot mode at b = 1 or 2: its slots of
+                    # 16k to 32k clocks set every bit of the slot length and its count-down
+                    mode, bits = rng.randint(1, len(MODES) - 1), rng.choice([1, 2])
                 osr = limit_osr(rng) if longest_osr == OSR_MAX else OSR_MAX   # the largest first
                 longest_osr = max(longest_osr, osr)
                 amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
@@ -193,12 +215,17 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
         if to_mdfqm:      # an MDFQM update after the layout: its zero state follows the last slot's
             mode, policy, to_mdfqm = 0, 1, False
         if scenario == "boundaries" and starts_left == 0:
-            rst, starts_left, beat_taken = 1, rng.randint(2, 3), False   # a new trial from reset
-            mode = rng.choice([0, 1, 1, 2, 2, 3, 3, 4, 4])
-            bits = rng.choice(bits_choices)
+            rst, beat_taken, trials = 1, False, trials + 1       # a new trial from reset
+            first_slot, turn = trials % 2 == 0, trials // 2
+            starts_left = rng.randint(2, 3)
+            mode = 2 if first_slot else rng.choice([0, 1, 1, 2, 2, 3, 3, 4, 4])
+            bits = (bits_choices[turn % len(bits_choices)] if first_slot
+                    else rng.choice(bits_choices))
             period = _period_for(rng, model, mode, bits)
             osr, policy = 1, rng.randint(0, 1)
-            offered = (tie_codes(rng, contract, n) if mode == 0 and rule == "largest_duty"
+            leg = turn // len(bits_choices) % n
+            offered = (first_slot_codes(rng, contract, n, bits, leg) if first_slot
+                       else tie_codes(rng, contract, n) if mode == 0 and rule == "largest_duty"
                        else boundary_codes(rng, contract, n, bits))
         if offered is None and rng.random() < 0.7:    # idle gaps between beats
             angle += step
@@ -224,7 +251,8 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
         holding = holding and not out["start"]
         if out["start"] and not rst and beat_taken:
             starts_left = max(0, starts_left - 1)
-            if scenario == "boundaries" and starts_left == 1 and mode and rng.random() < 0.75:
+            if (scenario == "boundaries" and starts_left == 1 and mode and not first_slot
+                    and rng.random() < 0.75):
                 to_mdfqm, starts_left = True, 2      # from the next clock: see above
         if scenario == "limits" and out["start"] and cycle > cycles // 2:
             sync_at = sync_delay(rng, cycle)

@@ -42,6 +42,10 @@ def main(argv=None) -> int:
     parser.add_argument("--retry", action="store_true",
                         help="with --resume: every mutant neither killed nor proven equivalent "
                              "through every stage again (after the tests changed)")
+    parser.add_argument("--retry-survived", action="store_true",
+                        help="with --resume: the survivors only through every stage again (after "
+                             "a test that closes their hole); undecided mutants keep their "
+                             "records")
     parser.add_argument("--only", action="append", default=[],
                         help="run this mutation key only (repeatable; needs --block)")
     parser.add_argument("--stages", default=",".join(STAGES),
@@ -82,8 +86,9 @@ def main(argv=None) -> int:
     if args.count:
         counts = {b: args.count for b in BLOCKS}
     settings = Settings(blocks=blocks, counts=counts, seed=args.seed, jobs=args.jobs,
-                        resume=args.resume or args.recheck or args.retry,
+                        resume=args.resume or args.recheck or args.retry or args.retry_survived,
                         recheck=args.recheck, retry=args.retry,
+                        retry_survived=args.retry_survived,
                         only=tuple(args.only), stages=stages,
                         eq_timeout=args.eq_timeout, progress=not args.no_progress)
     print(f"mutate: seed {args.seed}, blocks {', '.join(blocks)}, {args.jobs} jobs "

@@ -44,7 +44,7 @@ from .stages import (
 
 __all__ = [
     "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "STAGES", "STIMULUS_SOURCES", "BlockCampaign",
-    "Settings", "counts", "evaluate", "run", "stimulus_hash", "summary_line",
+    "Settings", "counts", "evaluate", "kept_records", "run", "stimulus_hash", "summary_line",
 ]
 
 BUILD = ROOT / "build" / "mutate"
@@ -76,6 +76,20 @@ class Settings:
     recheck: bool = False
     #: with resume: run every mutant not killed through every stage again (the tests changed)
     retry: bool = False
+    #: with resume: run the survivors only through every stage again (a test closed their
+    #: hole); undecided mutants keep their records
+    retry_survived: bool = False
+
+
+def kept_records(results: dict, settings: Settings) -> dict:
+    """The earlier records a resumed run keeps: all of them, or with ``retry`` (the tests
+    changed) the killed and proven-equivalent ones only, or with ``retry_survived`` (a test
+    closed a hole) all but the survivors."""
+    if settings.retry:
+        return {key: r for key, r in results.items() if r["status"] in ("killed", "equivalent")}
+    if settings.retry_survived:
+        return {key: r for key, r in results.items() if r["status"] != "survived"}
+    return dict(results)
 
 
 class BlockCampaign:
@@ -152,9 +166,7 @@ class BlockCampaign:
         drawn = {m.key for m in self.mutations}
         results = {key: r for key, r in db.get("results", {}).items()
                    if tuple(r.get("stages", ())) == tuple(self.settings.stages) and key in drawn}
-        if self.settings.retry:      # the tests changed: survivors and errors run again
-            results = {key: r for key, r in results.items()
-                       if r["status"] in ("killed", "equivalent")}
+        results = kept_records(results, self.settings)
         #: the earlier records of the mutants --recheck runs through stage 3 again
         self.rechecked = {key: r for key, r in results.items()
                           if self.settings.recheck and r["status"] in ("survived", "undecided")}

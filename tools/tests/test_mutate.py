@@ -103,6 +103,16 @@ def test_tallies_and_the_summary_line():
     assert "66.7 % of the non-equivalent killed; 2.0 min" in line
 
 
+def test_a_resumed_run_keeps_the_records_its_retry_option_does_not_run_again():
+    results = {status: {"status": status} for status in
+               ("killed", "equivalent", "undecided", "survived")}
+    kept = {name: set(campaign.kept_records(results, campaign.Settings(**options)))
+            for name, options in (("resume", {}), ("retry", {"retry": True}),
+                                  ("retry_survived", {"retry_survived": True}))}
+    assert kept == {"resume": set(results), "retry": {"killed", "equivalent"},
+                    "retry_survived": {"killed", "equivalent", "undecided"}}
+
+
 def test_the_regions_with_a_full_target_are_found_in_the_source():
     zones = report.regions()
     assert any("fronts.py" in line for line in zones["register write decode"])
