@@ -113,9 +113,9 @@ SAMPLE = {
          "row: MODULATION written with a mode not built in"),
     ],
     "top_axi": [
-        ("rtl/mdfqm_gateware/fronts.py:145 front $and#0 Y[0] const1",
+        ("rtl/mdfqm_gateware/fronts.py:143 front $and#0 Y[0] const1",
          "bus handshake (cyc or stb alone)"),
-        ("rtl/mdfqm_gateware/fronts.py:145 front $and#1 A[0] const1",
+        ("rtl/mdfqm_gateware/fronts.py:143 front $and#1 A[0] const1",
          "bus handshake (cyc or stb alone)"),
         ("rtl/mdfqm_gateware/top.py:361 top $and#0 B[3] const1",
          "two events in one clock"),

@@ -133,10 +133,8 @@ class AxiLiteFront(wiring.Component):
             return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
 
         aw_full, w_full, ar_full = Signal(), Signal(), Signal()
-        # held words are read only while their slot is full, and a reset empties every slot:
-        # no reset value (the mutation campaign found the reset multiplexers unobservable)
-        aw_adr, ar_adr = Signal(aw, reset_less=True), Signal(aw, reset_less=True)
-        w_data = Signal(32, reset_less=True)
+        aw_adr, ar_adr = Signal(aw), Signal(aw)
+        w_data = Signal(32)
         do_write, do_read = Signal(), Signal()
         m.d.comb += [
             bus.awready.eq(~aw_full),
