@@ -21,6 +21,13 @@ _TOGGLED_WHILE_HELD = (
     "(through `p_lat`, `slot_len`, `slot_m2`) only when the layout loads, a fixed number of "
     "clocks after the start, where the vector runs show it holding its loaded value.")
 
+#: the AXI front's held write data, a bit of its reset value inverted
+_HELD_WRITE_DATA = (
+    "equivalent by reading, not proven: the reset multiplexer of the AXI front's held write "
+    "data (select `rst`): the mutation inverts bit {bit} of its reset value; the word is loaded"
+    " by the W handshake before any write is issued (`do_write` needs `w_full`), and the "
+    "register file reads `w_data` only with `w_en`, so the reset value is never used.")
+
 READINGS: dict[str, str] = {
     "rtl/mdfqm_gateware/reference.py:47 reference $mux#0 A[3] const0":
         "equivalent by reading, not proven: the mutation clears bit 3 of `scaled` only while it"
@@ -197,12 +204,6 @@ READINGS: dict[str, str] = {
         "minimum) then differs for periods of 20 to 27 clocks in a slot mode at b <= 4, which the"
         " top's runs never write (their periods are 90, 130, 170 or 4400-6000 clocks, or a random"
         " word); the generator's runs have such periods.",
-    "rtl/mdfqm_gateware/fronts.py:138 front $mux#3 B[4] inv":
-        "equivalent by reading, not proven: the AXI front's held write address keeps its value in"
-        " a write's clock (B, selected by `do_write`); the mutation inverts bit 4 of what it "
-        "keeps. The write itself uses the address register's present value, and after it the AW "
-        "slot is empty: the next write cannot issue before an AW handshake reloads the address, "
-        "so the kept value is never read.",
     "rtl/mdfqm_gateware/top.py:462 top $not#0 A[0] const0":
         "equivalent by reading, not proven: the inverter is the `~tripped` of the watchdog's trip"
         " test (top.py:408; Yosys merged it with the same inverter of a cover at line 462 and "
@@ -210,4 +211,49 @@ READINGS: dict[str, str] = {
         "latch is set, `quiet` is held at 0 (the latch is in its clearing condition, and the trip"
         " clock zeroes it too), so `quiet >= TIMEOUT` (TIMEOUT not 0) is false and no trip "
         "follows either way.",
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[21] const1":
+        "equivalent by reading, not proven: the reset multiplexer of the AXI front's held write"
+        " data (select `rst`): the mutation sets bit 21 of its reset value; the word is loaded "
+        "by the W handshake before any write is issued, so the reset value is never used.",
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#1 B[10] cnot1/23":
+        "equivalent by reading, not proven: the AXI front's held write data keeps its value in "
+        "a write's clock (B, selected by the write); the mutation changes bit 10 of what it "
+        "keeps. After a write the W slot is empty, and the next write cannot issue before a W "
+        "handshake reloads the word: the changed value is never written.",
+    "rtl/mdfqm_gateware/fronts.py:136 front $mux#4 B[5] inv":
+        "equivalent by reading, not proven: the AXI front's held write address keeps its value "
+        "in a write's clock; the mutation inverts bit 5 of what it keeps. After a write the AW "
+        "slot is empty, and the next write cannot issue before an AW handshake reloads the "
+        "address.",
+    "rtl/mdfqm_gateware/fronts.py:136 front $mux#2 B[4] const1":
+        "equivalent by reading, not proven: the reset value of an AXI front's held address (B, "
+        "selected by `rst`) gets bit 4 set; an address is used only once its slot is full, and "
+        "a handshake loads it in the same clock the slot fills, so the reset value is never "
+        "read (the read address feeds only the register read multiplexer, without side "
+        "effects).",
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[19] inv": _HELD_WRITE_DATA.format(bit=19),
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[1] inv": _HELD_WRITE_DATA.format(bit=1),
+    "rtl/mdfqm_gateware/top.py:44 top $reduce_or#0 A[14] const0":
+        "a hole, not equivalent (the bounded check's counterexample writes it 4 clocks after "
+        "reset): the OSR clamp's test of the bits above the 8-bit field (`value[8:].any()`) "
+        "ignores bit 22, so a write whose only bit above the field is bit 22 sets OSR to its low "
+        "8 bits instead of 255. The top's `limit_writes` walks OSR's single bits only inside the "
+        "field (and 256, 0xFFFFFFFF); it walks every bit of the word for the 16-bit fields. Fix: "
+        "the same walk for OSR.",
+    "rtl/mdfqm_gateware/fronts.py:137 front $mux#1 B[7] cnot0/30":
+        "equivalent by reading, not proven: the AXI front's held write data keeps its value in a "
+        "write's clock (B, selected by the write); the mutation changes bit 7 of what it keeps. "
+        "After a write the W slot is empty, and the next write cannot issue before a W handshake "
+        "reloads the word: the changed value is never written.",
+    "rtl/mdfqm_gateware/top.py:371 top $mux#0 A[3] cnot1/14":
+        "not equivalent by reading, not killed by this block's runs: bit 3 of the ADC trigger "
+        "counter toggles once it is past 16,384, so a trigger at an offset past 16,384 comes at "
+        "the wrong clock. The AXI4-Lite top's runs (50k clocks) have no update that long; the "
+        "Wishbone top's long runs have one (the same logic, killed there).",
+    "rtl/mdfqm_gateware/top.py:437 top $logic_not#0 A[3] const0":
+        "a hole, not equivalent by reading: the `TIMEOUT == 0` test of the watchdog (top.py:409; "
+        "Yosys merged it with the same test in the formal ghost at line 437, whose source it "
+        "kept, so the proof sees the mutation too) ignores bit 3: a TIMEOUT of 8 acts as off. The"
+        " top's runs trip the watchdog with TIMEOUT 2 and 4 only, and write 8 only in the limit "
+        "writes (gates off, never long enough to trip).",
 }
