@@ -88,7 +88,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         # walking ones (over the whole word) and zeros: a stuck or swapped bit of a register or
         # of its clamp's compare shows
         walk16 = (*(1 << k for k in range(32)), *(0xFFFF ^ (1 << k) for k in range(16)))
-        walk8 = tuple(w for k in range(8) for w in (1 << k, 0xFF ^ (1 << k)))
+        walk8 = (*(w for k in range(8) for w in (1 << k, 0xFF ^ (1 << k))),
+                 *(1 << k for k in range(8, 32)))
         codes = (contract.code_max, contract.code_max + 1, contract.code_min,
                  contract.code_min - 1, (1 << 31) - 1, -(1 << 31),
                  # a single one in a positive word, a single zero in a negative one: each bit

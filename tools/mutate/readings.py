@@ -233,13 +233,6 @@ READINGS: dict[str, str] = {
         "effects).",
     "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[19] inv": _HELD_WRITE_DATA.format(bit=19),
     "rtl/mdfqm_gateware/fronts.py:137 front $mux#2 B[1] inv": _HELD_WRITE_DATA.format(bit=1),
-    "rtl/mdfqm_gateware/top.py:44 top $reduce_or#0 A[14] const0":
-        "a hole, not equivalent (the bounded check's counterexample writes it 4 clocks after "
-        "reset): the OSR clamp's test of the bits above the 8-bit field (`value[8:].any()`) "
-        "ignores bit 22, so a write whose only bit above the field is bit 22 sets OSR to its low "
-        "8 bits instead of 255. The top's `limit_writes` walks OSR's single bits only inside the "
-        "field (and 256, 0xFFFFFFFF); it walks every bit of the word for the 16-bit fields. Fix: "
-        "the same walk for OSR.",
     "rtl/mdfqm_gateware/fronts.py:137 front $mux#1 B[7] cnot0/30":
         "equivalent by reading, not proven: the AXI front's held write data keeps its value in a "
         "write's clock (B, selected by the write); the mutation changes bit 7 of what it keeps. "
