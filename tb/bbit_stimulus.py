@@ -7,7 +7,9 @@ Scenarios:
 
 - one per mode (``mdfqm``, ``svpwm``, ``dpwm0``, ``dpwm1``, ``dpwm``): that mode held, ``bits``
   moving among ``bits_choices`` at random cycles (taken at the next update start), periods at
-  the minimum, at multiples of ``2**b`` and with remainder clocks, OSR and zero policy moving;
+  the minimum, at multiples of ``2**b`` and with remainder clocks, and at b = 1 or 2 now and
+  then a long one (4096 to 8191 clocks: the slot length's high bits), OSR and zero policy
+  moving;
 - ``switch``: mode and bits (illegal codes included), period (below the minimum included), OSR,
   sync_in and resets all changing at random cycles;
 - ``handover``: mdfqm and the gamma modes alternating every update or two, mostly small b (up
@@ -54,6 +56,8 @@ OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
 SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes", "limits", "boundaries")
 #: clocks of a ``limits`` run with room for an update at the largest period (2**16 - 1)
 LIMITS_CYCLES = 150_000
+#: the shortest period of the mode scenarios' long slot-mode updates (at b = 1 or 2)
+LONG_SLOTS_PERIOD = 4096
 #: chance of a reset, of a sync pulse in a clock, per scenario (``limits`` as in core_stimulus)
 RESETS = {"switch": 0.0005}
 SYNCS = {"switch": 0.02, "limits": 0.0005}
@@ -161,6 +165,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     offered, longest, longest_osr, holding, sync_at = None, 0, 0, False, -1
     # boundaries: update starts left in a trial, counted once its first beat is taken
     starts_left, beat_taken, to_mdfqm, trials, first_slot = 0, False, False, 0, False
+    long_slots = False
     next_change = rng.randint(1, segment)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in OUTPUTS}
@@ -175,12 +180,16 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                 bits = rng.choice(bits_choices)
                 amplitude = rng.uniform(0.05, 1.0) * lin
                 offset = rng.uniform(-0.3, 0.3)
+                long_slots = mode != 0 and bits <= 2 and rng.random() < 0.3
             elif scenario in ("overmod", "extremes"):
                 mode = rng.randint(0, len(MODES) - 1)
                 bits = rng.choice(bits_choices)
                 amplitude = rng.uniform(1.0, 2.0) * lin
                 offset = rng.uniform(-0.5, 0.5)
             period = _period_for(rng, model, mode, bits)
+            if long_slots:      # slots of 1k to 4k clocks: P's bit 12 set, its low bits seen
+                period = rng.randint(LONG_SLOTS_PERIOD, 2 * LONG_SLOTS_PERIOD - 1)
+                long_slots = False
             if scenario == "limits":
                 mode = rng.choice([*range(len(MODES)), rng.randint(len(MODES), 7)])
                 bits = rng.choice([0, 1, max_bits, max_bits + 1, 15, rng.choice(bits_choices)])

@@ -53,13 +53,13 @@ SAMPLE = {
          "row: reset in the middle of an update"),
     ],
     "generator": [
-        ("rtl/mdfqm_gateware/resolution.py:222 quantiser $sub#3 B[10] const1",
+        ("rtl/mdfqm_gateware/resolution.py:229 quantiser $sub#3 B[10] const1",
          "datapath"),
-        ("rtl/mdfqm_gateware/resolution.py:375 layout $sub#0 A[4] const1",
+        ("rtl/mdfqm_gateware/resolution.py:382 layout $sub#0 A[4] const1",
          "datapath"),
         ("rtl/mdfqm_gateware/sequencer.py:169 sequencer $mux#1 Y[3] cnot1/2",
          "row: illegal generator mode or bits"),
-        ("rtl/mdfqm_gateware/resolution.py:183 quantiser $add#0 Y[9] inv",
+        ("rtl/mdfqm_gateware/resolution.py:190 quantiser $add#0 Y[9] inv",
          "datapath"),
     ],
     "driver": [

@@ -56,7 +56,10 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
         # trigger counter's upper bits), left alone (no restore, no sync) for two of them
         long = rng.random() < 0.1 and not missing_modes()     # (a long one holds a mode)
-        period = rng.randint(4400, 6000) if long else rng.choice([90, 130, 170])
+        # or short ones: 20 to 27 clocks is below the slot modes' 2**b at b = 5 and above it
+        # at b <= 4 (the minimum there is the long latency, 20)
+        period = (rng.randint(4400, 6000) if long
+                  else rng.choice([90, 130, 170, rng.randint(20, 27)]))
         if long:
             hold = now + 2 * period
         return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
@@ -67,7 +70,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                       (regs.MIN_PULSE, 1, rng.randrange(8)),
                       (regs.ADC_OFFSET, 1, rng.randint(4096, period - 1) if long
                        else rng.randrange(100)),
-                      (regs.WATCHDOG, 1, rng.choice([0, 2, 4])),
+                      (regs.WATCHDOG, 1, rng.choice([0, 2, 4, 8])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
     def random_write():
@@ -148,20 +151,35 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     fault_until = -1
     # resets: at the start, in the middle, and four more short trials of a tie
     resets = {0, cycles // 2, *(cycles * k // 16 for k in (3, 5, 11, 13))}
+    # and eight trials on the b-bit grid, clear of the fault, limit writes, stall and burst
+    grid_resets = {cycles * k // 64 for k in (3, 7, 9, 15, 19, 22, 35, 37)} - resets
+    grid_bits = None       # b of a grid trial whose beat is not yet offered
     # after the burst, in a long run: one update of more than 32768 clocks with the ADC trigger
     # in its upper half (the trigger counter's bit 15), started by two sync pulses once the
     # period is written, the firmware quiet meanwhile
     adc_window = burst_end + 1 if cycles >= 200_000 else None
     adc_syncs = {burst_end + 200, burst_end + 260} if adc_window else set()
     for cycle in range(cycles):
-        rst = int(cycle in resets)
-        if rst:
+        rst = int(cycle in resets or cycle in grid_resets)
+        if cycle in grid_resets and component.max_bits:
+            # a slot mode written first, no beat until every write is done: the updates run
+            # with R = 0, the integrators stay empty, and the beat on the half-slot grid goes
+            # into the first update of the slot mode (its instants on the quantiser's decision
+            # boundaries, as the generator's ``boundaries`` trials)
+            ops, current, offered = settings(cycle), None, None
+            grid_bits = rng.randint(1, component.max_bits)
+            ops.appendleft((regs.MODULATION, 1,
+                            rng.randint(1, len(MODES) - 1) << regs.MODULATION_MODE_SHIFT
+                            | grid_bits << regs.MODULATION_BITS_SHIFT))
+        elif rst:
             ops, current = settings(cycle), None
             # from reset the integrators are empty and MDFQM runs: the first update's
             # largest candidates tie exactly (docs/robustness.md, "equal references")
             offered = (tie_codes(rng, contract, phases) if component.rule == "largest_duty"
                        else boundary_codes(rng, contract, phases, 1))
-        firmware_quiet = adc_window is not None and cycle >= adc_window
+        if grid_bits is not None and not ops and current is None:
+            offered, grid_bits = boundary_codes(rng, contract, phases, grid_bits), None
+        firmware_quiet = (adc_window is not None and cycle >= adc_window) or grid_bits is not None
         if not ops and not firmware_quiet and rng.random() < 0.02:   # firmware: reads, settings
             ops.extend(rng.choice([
                 [(rng.randrange(64), 0, 0)],
@@ -201,7 +219,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if cycle == cycles * 2 // 5:           # every register at its clamps
             ops.extend(limit_writes(cycle))
         if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
-            ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2])))
+            ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2, 8])))
         if current is None and ops and gap == 0:
             current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
             lead = rng.choice([0, 0, 0, 1, 2])     # Wishbone: cyc raised before stb
@@ -226,7 +244,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             bus = {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr,
                    "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
         stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
-        if offered is None and not stalled and rng.random() < 0.3:
+        if offered is None and not stalled and grid_bits is None and rng.random() < 0.3:
             angle += 0.05
             pick = rng.random()
             if pick < 0.1:                      # the ends and the middle of the code range

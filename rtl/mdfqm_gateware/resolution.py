@@ -5,7 +5,7 @@ gating-signal generator") and :mod:`mdfqm_model.bbit`; :class:`mdfqm_model.clock
 predicts every bit of them on every clock, through :class:`GatingSignalGenerator`.
 """
 
-from amaranth import Array, Cat, Const, Module, Mux, Signal, signed, unsigned
+from amaranth import Array, Cat, Const, Module, Mux, Shape, Signal, signed, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -33,10 +33,17 @@ def _lookup(values, index, shape):
 
 
 def _table(m, values, index, shape, name):
-    """A registered lookup ``values[index]`` (``index`` changes only at update starts)."""
-    out = Signal(shape, name=name)
-    m.d.sync += out.eq(_lookup(values, index, shape))
-    return out
+    """A registered lookup ``values[index]`` (``index`` changes only at update starts). Only
+    the bits that differ between the values are registered; a bit all of them share is a
+    constant, so that no flop holds a bit that can never change."""
+    shape = Shape.cast(shape)
+    varying = [k for k in range(shape.width) if len({(v >> k) & 1 for v in values}) > 1]
+    held = Signal(len(varying), name=name)
+    m.d.sync += held.eq(_lookup([sum(((v >> k) & 1) << j for j, k in enumerate(varying))
+                                 for v in values], index, unsigned(len(varying))))
+    bits = [held[varying.index(k)] if k in varying else Const((values[0] >> k) & 1, 1)
+            for k in range(shape.width)]
+    return Cat(*bits).as_signed() if shape.signed else Cat(*bits)
 
 
 def _sum_tree(m, terms, stages, shape, name):
