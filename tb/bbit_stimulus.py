@@ -21,11 +21,14 @@ Scenarios:
   minimum and now and then a long one up to 2**16 - 1 (2**16 - 1 itself in a slot mode at b = 1
   or 2); OSR 0, 1, 254, 255; mode 0-7 (5-7 illegal); bits 0, 1, max_bits, max_bits + 1, 15;
   extreme codes, codes on the b-bit grid (the quantiser's decision boundaries,
-  :func:`grid_codes`) and overmodulation;
+  :func:`grid_codes`) and overmodulation; in the second half sync pulses, now and then one
+  aimed at a power of two of an update's phase (the largest inside it half the time), and no
+  random one while it is due;
 - ``boundaries``: short trials from reset, each a random mode and b at its shortest periods,
   every beat on the half-slot grid (:func:`boundary_codes`): from reset the integrators are
   empty, so the first update's instants sit exactly on the quantiser's decision boundaries
-  and the duty sort's ties (a closed loop only wanders onto them now and then); 3 in 4
+  and the duty sort's ties (a closed loop only wanders onto them now and then); svpwm (whose
+  offset is the sector sum ``max + min``) twice as often as each other slot mode; 3 in 4
   slot-mode trials end with MDFQM updates (the fewest-transitions zero state after a layout);
   every other trial is a ``dpwm0`` one from :func:`first_slot_codes`, its b and leg in turn
   (a leg that turns on at the first slot boundary, which the layout decides at its load);
@@ -227,7 +230,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             rst, beat_taken, trials = 1, False, trials + 1       # a new trial from reset
             first_slot, turn = trials % 2 == 0, trials // 2
             starts_left = rng.randint(2, 3)
-            mode = 2 if first_slot else rng.choice([0, 1, 1, 2, 2, 3, 3, 4, 4])
+            mode = 2 if first_slot else rng.choice([0, 1, 1, 1, 1, 2, 2, 3, 3, 4, 4])
             bits = (bits_choices[turn % len(bits_choices)] if first_slot
                     else rng.choice(bits_choices))
             period = _period_for(rng, model, mode, bits)
@@ -247,8 +250,11 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                 offered = grid_codes(rng, contract, n, max(bits, 1))
             else:
                 offered = sine_codes(contract, amplitude, angle, offset)
-        sync_in = int((scenario in SYNCS and (scenario != "limits" or cycle > cycles // 2)
-                      and rng.random() < SYNCS[scenario]) or cycle == sync_at)
+        # limits: random syncs in the second half, none while an aimed one is due (it would
+        # cut short the update it aims at)
+        sync_in = int((scenario in SYNCS
+                       and (scenario != "limits" or (cycles // 2 < cycle and sync_at < cycle))
+                       and rng.random() < SYNCS[scenario]) or cycle == sync_at)
         valid = int(offered is not None)
         payload = offered or [0] * n
         trace["mode"].append(model.mode_lat)        # the registers visible in this cycle
@@ -264,7 +270,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
                     and rng.random() < 0.75):
                 to_mdfqm, starts_left = True, 2      # from the next clock: see above
         if scenario == "limits" and out["start"] and cycle > cycles // 2:
-            sync_at = sync_delay(rng, cycle)
+            sync_at = sync_delay(rng, cycle, model.p_lat)
         for name, value in (("rst", rst), ("ref__valid", valid),
                             ("ref__payload", pack(payload, contract.width)), ("period", period),
                             ("osr", osr), ("zero_policy", policy), ("sync_in", sync_in),

@@ -55,13 +55,19 @@ def limit_period(rng, latency, room, longest_yet=0):
     return rng.choice([0, 1, latency - 1, latency, latency + 1, 2 * latency + 3])
 
 
-def sync_delay(rng, start):
+def sync_delay(rng, start, period=None):
     """The clock of the sync pulse the ``limits`` scenario aims into the update that starts at
     ``start`` (-1: none): at a power of two of its phase, give or take a few clocks (a stuck or
-    inverted bit of the phase counter changes whether the sync restarts the update)."""
+    inverted bit of the phase counter changes whether the sync restarts the update). Given the
+    update's ``period``, the power of two is one inside the update, the largest one half the
+    time (the phase counter's high bits are reached only in the few long updates)."""
     if rng.random() < 0.5:
         return -1
-    return start + (1 << rng.randint(2, 15)) + rng.randint(-2, 9)
+    if period is None:
+        return start + (1 << rng.randint(2, 15)) + rng.randint(-2, 9)
+    top = max(2, min(15, (period - 1).bit_length() - 1))
+    power = top if rng.random() < 0.5 else rng.randint(2, top)
+    return start + (1 << power) + rng.randint(-2, 9)
 
 
 def limit_osr(rng):

@@ -17,9 +17,13 @@ _SVPWM_LATTICE = (
 #: a register that toggles a bit every clock while it holds, read at one clock of the update
 _TOGGLED_WHILE_HELD = (
     "equivalent by reading, not proven: {what} toggles every clock while the register holds "
-    "(the mutation sits on its next-state path); it is loaded at an update start and read "
-    "(through `p_lat`, `slot_len`, `slot_m2`) only when the layout loads, a fixed number of "
-    "clocks after the start, where the vector runs show it holding its loaded value.")
+    "({how}); it is loaded at an update start and read (through `p_lat`, `slot_len`, "
+    "`slot_m2`) only when the layout loads, a fixed number of clocks after the start, where the"
+    " vector runs show it holding its loaded value.")
+#: where the mutation sits, for _TOGGLED_WHILE_HELD
+_ON_NEXT_STATE = "the mutation sits on its next-state path"
+_ON_OUTPUT = ("the mutation sits on its output, which the hold path feeds back: what is read "
+              "alternates between the loaded value and the mutated one")
 
 #: the AXI front's held write data, a bit of its reset value changed
 _RESET_WRITE_DATA = (
@@ -142,7 +146,20 @@ READINGS: dict[str, str] = {
                                    "is inverted", delta=2),
     "rtl/mdfqm_gateware/sequencer.py:178 sequencer $dff#0 D[9] cnot0/11":
         _TOGGLED_WHILE_HELD.format(what="bit 9 of `minimum` (the minimum period; bit 11 is "
-                                        "always clear: it is at most 2**B)"),
+                                        "always clear: it is at most 2**B)",
+                                   how=_ON_NEXT_STATE),
+    "rtl/mdfqm_gateware/sequencer.py:178 sequencer $dff#0 Q[6] inv":
+        _TOGGLED_WHILE_HELD.format(what="bit 6 of `minimum` (the minimum period)",
+                                   how=_ON_OUTPUT),
+    "rtl/mdfqm_gateware/sequencer.py:179 sequencer $dff#0 Q[5] cnot1/1":
+        _TOGGLED_WHILE_HELD.format(what="bit 5 of `period_lat` (the latched period), while its "
+                                        "bit 1 is set,", how=_ON_OUTPUT),
+    "rtl/mdfqm_gateware/resolution.py:263 quantiser $and#0 B[0] cnot0/2":
+        "equivalent by reading, not proven: bit 0 of the slot-grid mask `lo_mask` (set only for "
+        "b = 8) is inverted while its bit 2 is clear (b < 6), so `lo = (m >> 1) & lo_mask` takes "
+        "bit 1 of the quotient `m` too. At b < 6 the quotient's low B - b >= 3 bits are 0 (after "
+        "its b-th step the divider shifts in zeros: `fits & (want != 0)`), so that bit is 0 and "
+        "`lo` is unchanged.",
     "rtl/mdfqm_gateware/resolution.py:335 layout $mux#0 Y[7] const0":
         "equivalent by reading, not proven: the layout's `lo` of a leg never has bit 7 set. `lo ="
         " floor(m / 2)` on the slot grid is at most `2**(B - 1)` = 128, and 128 only for `m = "
@@ -167,6 +184,13 @@ READINGS: dict[str, str] = {
         "below 1024, so it turns negative in the same clock; then it falls twice as fast (each "
         "value with bit 10 set is skipped) but stays negative: it would wrap only after 65,536 "
         "clocks of negative values, and every update (at most 65,535 clocks) reloads it first.",
+    "rtl/mdfqm_gateware/sequencer.py:191 sequencer $sub#0 A[15] const0":
+        "equivalent by reading, not proven: the minimum-period count-down `floor` (18 bits, "
+        "signed) is decremented with its bit 15 cleared. Only its sign is read. It starts at "
+        "`minimum - 3` <= 253, below 2**15, so nothing changes until it is negative; from -1 on, "
+        "each value with bit 15 set falls by 2**15 more, but it stays negative for 65,536 clocks "
+        "(counted on the mutant's arithmetic), and every update (at most 65,535 clocks) reloads "
+        "it first.",
     "rtl/mdfqm_gateware/sequencer.py:193 sequencer $lt#0 B[3] cnot1/7":
         "equivalent by reading, not proven: `period_lat < minimum` compares against `minimum + 8`"
         " when bit 7 of the minimum is set (b = 7, 8: the minimum is `2**b`). A period in `[2**b,"
@@ -191,7 +215,8 @@ READINGS: dict[str, str] = {
         "does: 141 mismatches); the top has no trials from reset on the boundary grid in a "
         "slot mode.",
     "rtl/mdfqm_gateware/sequencer.py:178 core.sequencer $dff#0 D[7] inv":
-        _TOGGLED_WHILE_HELD.format(what="bit 7 of `minimum` (the minimum period)"),
+        _TOGGLED_WHILE_HELD.format(what="bit 7 of `minimum` (the minimum period)",
+                                   how=_ON_NEXT_STATE),
     "rtl/mdfqm_gateware/resolution.py:364 core.layout $eq#1 A[8] const0":
         "equivalent by reading, not proven: the layout's turn-off compare of leg 1 takes `after` "
         "with bit 8 cleared. `after` (the scaled index of the slot after the next) has bit 8 set "
