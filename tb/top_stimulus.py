@@ -25,8 +25,12 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``
     (sines from near zero into overmodulation, extreme codes, ties), a fault pulse and its
-    clear, a stall of the stream (the watchdog on at times), sync pulses and a reset in the
-    middle and four more (after each reset, a beat whose largest candidates tie); on Wishbone,
+    clear, a stall of the stream (the watchdog on at times, TIMEOUT 1, 2 or 8 at its start),
+    sync pulses and a reset in the middle and four more (after each reset, a beat whose largest
+    candidates tie), and eight reset trials on the b-bit grid (a slot mode written, then one
+    beat on the half-slot grid into empty integrators: the quantiser's decision boundaries);
+    periods of 20-27 clocks (around the slot modes' minimum), 90-170, 300-1100 with the ADC
+    trigger anywhere in them, and now and then 4400-6000 with it past 4096; on Wishbone,
     ``cyc`` or ``stb`` alone while idle and ``cyc`` raised before ``stb`` at times; the settings
     make the gates switch within a few thousand clocks; MODULATION written now and then (any
     mode code, any b code, mostly small); a burst of back-to-back
@@ -56,9 +60,11 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
         # trigger counter's upper bits), left alone (no restore, no sync) for two of them
         long = rng.random() < 0.1 and not missing_modes()     # (a long one holds a mode)
-        # or short ones: 20 to 27 clocks is below the slot modes' 2**b at b = 5 and above it
-        # at b <= 4 (the minimum there is the long latency, 20)
-        period = (rng.randint(4400, 6000) if long
+        # medium ones with the trigger anywhere in them (the counter's bits 8-10), or short
+        # ones: 20 to 27 clocks is below the slot modes' 2**b at b = 5 and above it at b <= 4
+        # (the minimum there is the long latency, 20)
+        medium = not long and rng.random() < 0.15
+        period = (rng.randint(4400, 6000) if long else rng.randint(300, 1100) if medium
                   else rng.choice([90, 130, 170, rng.randint(20, 27)]))
         if long:
             hold = now + 2 * period
@@ -69,7 +75,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                                                  component.dead_min + rng.randrange(1, 24)])),
                       (regs.MIN_PULSE, 1, rng.randrange(8)),
                       (regs.ADC_OFFSET, 1, rng.randint(4096, period - 1) if long
-                       else rng.randrange(100)),
+                       else rng.randrange(period) if medium else rng.randrange(100)),
                       (regs.WATCHDOG, 1, rng.choice([0, 2, 4, 8])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
