@@ -147,22 +147,14 @@ class AxiLiteFront(wiring.Component):
             port.w_data.eq(w_data),
             port.r_adr.eq(ar_adr),
         ]
-        # the held words load on their handshake alone: in a write's (a read's) clock their
-        # slot is full, so no handshake loads them there
-        with m.If(bus.awvalid & ~aw_full):
-            m.d.sync += aw_adr.eq(bus.awaddr[2:])
-        with m.If(bus.wvalid & ~w_full):
-            m.d.sync += w_data.eq(bus.wdata)
-        with m.If(bus.arvalid & ~ar_full):
-            m.d.sync += ar_adr.eq(bus.araddr[2:])
         with m.If(do_write):
             m.d.sync += [aw_full.eq(0), w_full.eq(0), bus.bvalid.eq(1),
                          bus.bresp.eq(response(aw_adr))]
         with m.Else():
             with m.If(bus.awvalid & ~aw_full):
-                m.d.sync += aw_full.eq(1)
+                m.d.sync += [aw_full.eq(1), aw_adr.eq(bus.awaddr[2:])]
             with m.If(bus.wvalid & ~w_full):
-                m.d.sync += w_full.eq(1)
+                m.d.sync += [w_full.eq(1), w_data.eq(bus.wdata)]
             with m.If(bus.bready):
                 m.d.sync += bus.bvalid.eq(0)
         with m.If(do_read):
@@ -170,7 +162,7 @@ class AxiLiteFront(wiring.Component):
                          bus.rresp.eq(response(ar_adr))]
         with m.Else():
             with m.If(bus.arvalid & ~ar_full):
-                m.d.sync += ar_full.eq(1)
+                m.d.sync += [ar_full.eq(1), ar_adr.eq(bus.araddr[2:])]
             with m.If(bus.rready):
                 m.d.sync += bus.rvalid.eq(0)
         if self.formal:
