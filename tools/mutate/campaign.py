@@ -120,6 +120,9 @@ class BlockCampaign:
         self.db_path = self.directory / "results.json"
         self.results = self._load()
         self.baseline = self._loaded_baseline
+        #: whether this run evaluated anything of the block (a block resumed with nothing to run
+        #: keeps its database, and with it the campaign time of the run that filled it)
+        self.ran = False
         self.module = f"{block.name}_mutants"
         self.width = mutsel_width(len(self.mutations))
 
@@ -434,6 +437,7 @@ def run(settings: Settings) -> dict:
         for future in concurrent.futures.as_completed(futures):
             name, mutation = futures[future]
             campaign = campaigns[name]
+            campaign.ran = True
             if mutation is None:
                 campaign.baseline = future.result()
                 campaign.save(started)
@@ -458,13 +462,15 @@ def run(settings: Settings) -> dict:
         if later and campaign.baseline is None and any(
                 r.get("stage") in later for r in campaign.results.values()):
             campaign.baseline = evaluate({**contexts[name], "stages": later}, 0, ORIGINAL)
+            campaign.ran = True
         if later and campaign.baseline and campaign.baseline["status"] == "killed":
             print(f"mutate {name}: THE ORIGINAL FAILS ITS TESTS ({campaign.baseline['detail']})"
                   ": its cocotb and formal kills are void")
             for r in campaign.results.values():
                 if r["status"] == "killed" and r["stage"] in ("cocotb", "formal"):
                     r.update(status="error", detail="the original fails this stage too")
-        campaign.save(started)
+        if campaign.ran:
+            campaign.save(started)
         tallies[name] = counts({k: r for k, r in campaign.results.items()
                                 if r["status"] != "error"})
         errors = [r for r in campaign.results.values() if r["status"] == "error"]
