@@ -59,6 +59,8 @@ OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
 SCENARIOS = (*MODES, "switch", "handover", "overmod", "extremes", "limits", "boundaries")
 #: clocks of a ``limits`` run with room for an update at the largest period (2**16 - 1)
 LIMITS_CYCLES = 150_000
+#: the mode of the ``boundaries`` scenario's first-slot trials
+DPWM0 = MODES.index("dpwm0")
 #: the shortest period of the mode scenarios' long slot-mode updates (at b = 1 or 2)
 LONG_SLOTS_PERIOD = 4096
 #: chance of a reset, of a sync pulse in a clock, per scenario (``limits`` as in core_stimulus)
@@ -168,7 +170,6 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
     offered, longest, longest_osr, holding, sync_at = None, 0, 0, False, -1
     # boundaries: update starts left in a trial, counted once its first beat is taken
     starts_left, beat_taken, to_mdfqm, trials, first_slot = 0, False, False, 0, False
-    long_slots = False
     next_change = rng.randint(1, segment)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in OUTPUTS}
@@ -179,6 +180,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             next_change += rng.randint(segment // 3, segment)
             policy = rng.randint(0, 1)
             osr = rng.choice([1, 2, 4, 1])
+            long_slots = False
             if scenario in MODES:
                 bits = rng.choice(bits_choices)
                 amplitude = rng.uniform(0.05, 1.0) * lin
@@ -192,7 +194,6 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             period = _period_for(rng, model, mode, bits)
             if long_slots:      # slots of 1k to 4k clocks: P's bit 12 set, its low bits seen
                 period = rng.randint(LONG_SLOTS_PERIOD, 2 * LONG_SLOTS_PERIOD - 1)
-                long_slots = False
             if scenario == "limits":
                 mode = rng.choice([*range(len(MODES)), rng.randint(len(MODES), 7)])
                 bits = rng.choice([0, 1, max_bits, max_bits + 1, 15, rng.choice(bits_choices)])
@@ -230,7 +231,7 @@ def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3
             rst, beat_taken, trials = 1, False, trials + 1       # a new trial from reset
             first_slot, turn = trials % 2 == 0, trials // 2
             starts_left = rng.randint(2, 3)
-            mode = 2 if first_slot else rng.choice([0, 1, 1, 1, 1, 2, 2, 3, 3, 4, 4])
+            mode = DPWM0 if first_slot else rng.choice([0, 1, 1, 1, 1, 2, 2, 3, 3, 4, 4])
             bits = (bits_choices[turn % len(bits_choices)] if first_slot
                     else rng.choice(bits_choices))
             period = _period_for(rng, model, mode, bits)

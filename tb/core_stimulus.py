@@ -64,9 +64,10 @@ def sync_delay(rng, start, period=None):
     if rng.random() < 0.5:
         return -1
     if period is None:
-        return start + (1 << rng.randint(2, 15)) + rng.randint(-2, 9)
-    top = max(2, min(15, (period - 1).bit_length() - 1))
-    power = top if rng.random() < 0.5 else rng.randint(2, top)
+        power = rng.randint(2, 15)
+    else:
+        top = max(2, min(15, (period - 1).bit_length() - 1))
+        power = top if rng.random() < 0.5 else rng.randint(2, top)
     return start + (1 << power) + rng.randint(-2, 9)
 
 

@@ -157,7 +157,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     fault_until = -1
     # resets: at the start, in the middle, and four more short trials of a tie
     resets = {0, cycles // 2, *(cycles * k // 16 for k in (3, 5, 11, 13))}
-    # and eight trials on the b-bit grid, clear of the fault, limit writes, stall and burst
+    # and eight trials on the b-bit grid, each reset before (not inside) the fault pulse, the
+    # limit writes, the stall and the burst
     grid_resets = {cycles * k // 64 for k in (3, 7, 9, 15, 19, 22, 35, 37)} - resets
     grid_bits = None       # b of a grid trial whose beat is not yet offered
     # after the burst, in a long run: one update of more than 32768 clocks with the ADC trigger

@@ -28,15 +28,17 @@ _HI_PAST_LAST = (
     " (`delta == hi`, delta <= 128) fails either way, and a match of `after == 256` at the "
     "advance into the last slot is never used (the last slot is held until the next load): "
     "the leg stays on.")
-#: a bit of ``minimum`` that only one b sets, read as 0
-_MINIMUM_BIT_CLEARED = (
-    "equivalent by reading, not proven: bit {bit} of `minimum` reads 0 (the hold path feeds "
-    "the 0 back), so the minimum of b = {b}, {value}, reads 0 and `P = max(period, minimum)` "
-    "is the period itself when that is shorter. P is read only as `slot_len = P >> b`, then 0 "
-    "instead of 1, and slots of 0 or 1 clocks are the same one-clock slots: the layout's "
-    "count-down is loaded with `slot_len - 2`, negative either way, and advances every clock. "
-    "The update's length comes from the `floor` count-down, loaded from the table, not from "
-    "`minimum`.")
+def _minimum_bit_cleared(b: int) -> str:
+    """Bit b of ``minimum``, set only by the minimum ``2**b`` of that b, read as 0."""
+    return (
+        f"equivalent by reading, not proven: bit {b} of `minimum` reads 0 (the hold path feeds "
+        f"the 0 back), so the minimum of b = {b}, {1 << b}, reads 0 and `P = max(period, "
+        "minimum)` is the period itself when that is shorter. P is read only as `slot_len = P "
+        ">> b`, then 0 instead of 1, and slots of 0 or 1 clocks are the same one-clock slots: "
+        "the layout's count-down is loaded with `slot_len - 2`, negative either way, and "
+        "advances every clock. The update's length comes from the `floor` count-down, loaded "
+        "from the table, not from `minimum`.")
+
 
 READINGS: dict[str, str] = {
     "rtl/mdfqm_gateware/reference.py:47 reference $mux#0 A[3] const0":
@@ -78,9 +80,9 @@ READINGS: dict[str, str] = {
                                   "is inverted while its bit 8 is set",
                              when="its bit 8 is set", value=320),
     "rtl/mdfqm_gateware/sequencer.py:178 core.sequencer $dff#0 Q[5] const0":
-        _MINIMUM_BIT_CLEARED.format(bit=5, b=5, value=32),
+        _minimum_bit_cleared(5),
     "rtl/mdfqm_gateware/sequencer.py:178 core.sequencer $dff#0 Q[6] const0":
-        _MINIMUM_BIT_CLEARED.format(bit=6, b=6, value=64),
+        _minimum_bit_cleared(6),
     "rtl/mdfqm_gateware/top.py:369 top $mux#0 Y[15] cnot1/13":
         "a hole, not equivalent by reading: the ADC count as read (`elapsed`) has bit 15 "
         "inverted while bit 13 is set. The count goes on from what is read, so while the true "
