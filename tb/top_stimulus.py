@@ -25,12 +25,14 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
     Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``
     (sines from near zero into overmodulation, extreme codes, ties), a fault pulse and its
-    clear, a stall of the stream (the watchdog on at times, TIMEOUT 1, 2 or 8 at its start),
+    clear, a stall of the stream (the watchdog on at times, TIMEOUT 1, 2 or 8 at its start,
+    WATCHDOG_TRIPS polled back to back and the latch cleared now and then meanwhile),
     sync pulses and a reset in the middle and four more (after each reset, a beat whose largest
     candidates tie), and eight reset trials on the b-bit grid (a slot mode written, then one
     beat on the half-slot grid into empty integrators: the quantiser's decision boundaries);
     periods of 20-27 clocks (around the slot modes' minimum), 90-170, 300-1100 with the ADC
-    trigger anywhere in them, and now and then 4400-6000 with it past 4096; on Wishbone,
+    trigger anywhere in them, and now and then 4400-6000 with it past 4096 or 8400-9000 with
+    it past 8192; on Wishbone,
     ``cyc`` or ``stb`` alone while idle and ``cyc`` raised before ``stb`` at times; the settings
     make the gates switch within a few thousand clocks; MODULATION written now and then (any
     mode code, any b code, mostly small); a burst of back-to-back
@@ -38,7 +40,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     under frequent fault and sync pulses, so that writes land in the same clock as the other
     events; every register written at and beyond its clamps and read back, the gates disabled
     meanwhile; in a run of 200 000 clocks or more, after the burst, one update longer than
-    32768 clocks with the ADC trigger in its upper half. Returns (inputs, expected outputs) by
+    32768 clocks with the ADC trigger in its upper half, in a shorter one with 8600 clocks or
+    more left then, one of 9000 with it past 8192. Returns (inputs, expected outputs) by
     port, and the set of modes that were in force in some clock. ``census``, a dict if given,
     counts the clocks where a register write (``write``) or a ``CMD`` write (``command``) is
     issued together with each of :data:`COINCIDENT`: a reference beat taken, the fault input
@@ -54,17 +57,23 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     amplitude = 0.5                     # of Vdc
 
     hold = 0        # no restore of the settings, no sync before this cycle: a long update runs out
+    longer_drawn = False
 
     def settings(now):
-        nonlocal hold
+        nonlocal hold, longer_drawn
         # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
         # trigger counter's upper bits), left alone (no restore, no sync) for two of them
         long = rng.random() < 0.1 and not missing_modes()     # (a long one holds a mode)
+        # the first of them and a third of the others past 8192 with the trigger there too
+        # (the counter's bit 13)
+        longer = long and (not longer_drawn or rng.random() < 1 / 3)
+        longer_drawn |= longer
         # medium ones with the trigger anywhere in them (the counter's bits 8-10), or short
         # ones: 20 to 27 clocks is below the slot modes' 2**b at b = 5 and above it at b <= 4
         # (the minimum there is the long latency, 20)
         medium = not long and rng.random() < 0.15
-        period = (rng.randint(4400, 6000) if long else rng.randint(300, 1100) if medium
+        period = (rng.randint(8400, 9000) if longer else rng.randint(4400, 6000) if long
+                  else rng.randint(300, 1100) if medium
                   else rng.choice([90, 130, 170, rng.randint(20, 27)]))
         if long:
             hold = now + 2 * period
@@ -74,7 +83,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                       (regs.DEAD, 1, rng.choice([0, component.dead_min,
                                                  component.dead_min + rng.randrange(1, 24)])),
                       (regs.MIN_PULSE, 1, rng.randrange(8)),
-                      (regs.ADC_OFFSET, 1, rng.randint(4096, period - 1) if long
+                      (regs.ADC_OFFSET, 1, rng.randint(8192 if longer else 4096, period - 1)
+                       if long
                        else rng.randrange(period) if medium else rng.randrange(100)),
                       (regs.WATCHDOG, 1, rng.choice([0, 2, 4, 8])),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
@@ -162,10 +172,12 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     grid_resets = {cycles * k // 64 for k in (3, 7, 9, 15, 19, 22, 35, 37)} - resets
     grid_bits = None       # b of a grid trial whose beat is not yet offered
     # after the burst, in a long run: one update of more than 32768 clocks with the ADC trigger
-    # in its upper half (the trigger counter's bit 15), started by two sync pulses once the
-    # period is written, the firmware quiet meanwhile
-    adc_window = burst_end + 1 if cycles >= 200_000 else None
-    adc_syncs = {burst_end + 200, burst_end + 260} if adc_window else set()
+    # in its upper half (the trigger counter's bit 15); in a run with 8600 clocks or more left
+    # after the burst, one of 9000 with the trigger past 8192 (bit 13; the long settings'
+    # updates rarely run out between the resets of a short run); started by two sync pulses
+    # once the period is written, the firmware quiet meanwhile
+    adc_window = burst_end + 1 if cycles - burst_end >= 8600 else None
+    aimed_syncs = {burst_end + 200, burst_end + 260} if adc_window else set()
     for cycle in range(cycles):
         rst = int(cycle in resets or cycle in grid_resets)
         if cycle in grid_resets and component.max_bits:
@@ -187,6 +199,14 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if grid_bits is not None and not ops and current is None:
             offered, grid_bits = boundary_codes(rng, contract, phases, grid_bits), None
         firmware_quiet = (adc_window is not None and cycle >= adc_window) or grid_bits is not None
+        stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
+        if stalled and not ops:
+            # the firmware polls WATCHDOG_TRIPS back to back while the stream stalls (a read in
+            # the tripping start's own clock sees the count before it), and clears the latch
+            # now and then once it has tripped (a clear restarts the quiet count), so that it
+            # trips again
+            ops.append((regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR)
+                       if model.wd_tripped and rng.random() < 0.2 else (regs.WATCHDOG_TRIPS, 0, 0))
         if not ops and not firmware_quiet and rng.random() < 0.02:   # firmware: reads, settings
             ops.extend(rng.choice([
                 [(rng.randrange(64), 0, 0)],
@@ -219,14 +239,18 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             ]))
             gap = 0
         if cycle == adc_window:
-            period = rng.randint(33_500, 34_500)
-            ops.extend([(regs.PERIOD, 1, period),
-                        (regs.ADC_OFFSET, 1, rng.randint(32_768, 33_300))])
+            period, offset = ((rng.randint(33_500, 34_500), rng.randint(32_768, 33_300))
+                              if cycles >= 200_000
+                              else (9000, rng.randint(8192, cycles - burst_end - 300)))
+            ops.extend([(regs.PERIOD, 1, period), (regs.ADC_OFFSET, 1, offset)])
             hold = cycle + 2 * period
         if cycle == cycles * 2 // 5:           # every register at its clamps
             ops.extend(limit_writes(cycle))
         if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
             ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2, 8])))
+            if rng.random() < 0.75:            # and mostly short updates: many trips
+                ops.appendleft((regs.PERIOD, 1, rng.choice([90, rng.randint(20, 27)])))
+                aimed_syncs.add(cycle + 40)      # in force at once (a sync once it is written)
         if current is None and ops and gap == 0:
             current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
             lead = rng.choice([0, 0, 0, 1, 2])     # Wishbone: cyc raised before stb
@@ -250,7 +274,6 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             lead = max(0, lead - 1)
             bus = {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr,
                    "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
-        stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
         if offered is None and not stalled and grid_bits is None and rng.random() < 0.3:
             angle += 0.05
             pick = rng.random()
@@ -268,7 +291,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
         if burst and rng.random() < 0.01:
             fault_until = cycle + rng.randrange(3)
         fault_in = int(cycle <= fault_until)
-        sync_in = int(cycle in adc_syncs
+        sync_in = int(cycle in aimed_syncs
                       or (cycle >= hold and rng.random() < (0.05 if burst else 0.003)))
         payload, valid = offered or [0] * phases, int(offered is not None)
         modes.add(getattr(model.core, "mode_lat", 0))
