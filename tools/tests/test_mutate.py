@@ -113,6 +113,17 @@ def test_a_resumed_run_keeps_the_records_its_retry_option_does_not_run_again():
                     "retry_survived": {"killed", "equivalent", "undecided"}}
 
 
+def test_a_flop_moved_to_the_other_clock_edge_skips_the_formal_stage(tmp_path):
+    """A mutation of a flop's clock port is outside the one-edge formal model (SymbiYosys's
+    prep refuses the netlist): the formal stage is recorded as not run, not tried (an error
+    row) and not counted as a kill."""
+    mutation = {**campaign.ORIGINAL, "key": "k", "cell": "$1", "mode": "inv", "port": "CLK"}
+    record = campaign.evaluate({"block": "driver", "directory": str(tmp_path),
+                                "stages": ["formal"]}, 1, mutation)
+    assert record["status"] == "survived"
+    assert record["log"] == [f"formal: not run: {campaign.OTHER_EDGE}"]
+
+
 def test_the_regions_with_a_full_target_are_found_in_the_source():
     zones = report.regions()
     assert any("fronts.py" in line for line in zones["register write decode"])
