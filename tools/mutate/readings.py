@@ -83,14 +83,6 @@ READINGS: dict[str, str] = {
         _minimum_bit_cleared(5),
     "rtl/mdfqm_gateware/sequencer.py:178 core.sequencer $dff#0 Q[6] const0":
         _minimum_bit_cleared(6),
-    "rtl/mdfqm_gateware/top.py:369 top $mux#0 Y[15] cnot1/13":
-        "a hole, not equivalent by reading: the ADC count as read (`elapsed`) has bit 15 "
-        "inverted while bit 13 is set. The count goes on from what is read, so while the true "
-        "count has bit 13 set the value read alternates between it and it + 32768, and a "
-        "trigger at an offset in 8192-16383 or 24576-32767 fires or not by the parity of the "
-        "clock. No run writes such an offset: the long settings stop at 6000 clocks, and the "
-        "Wishbone top's long window (offsets 32768-33300, bit 13 clear) sees the true count "
-        "again past 32767 (checked: that block's vector runs do not kill it either).",
     "rtl/mdfqm_gateware/top.py:217 top $dff#0 Q[4] cnot1/16":
         "equivalent by reading, not proven: bit 4 of the ADC trigger counter (17 bits) is "
         "inverted while its bit 16 is set, and bit 16 is never set: the count restarts at every "
