@@ -308,8 +308,8 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
                 return done("killed", "cocotb", result["detail"])
     as_mutation = Mutation(**{**mutation, "src": tuple(mutation["src"])}) if mutant else None
     # a flop moved to the other clock edge is outside the formal model (one edge per step;
-    # SymbiYosys's prep refuses it, and Yosys's sat would read it as the same flop): only
-    # simulation, which runs both edges, judges it
+    # SymbiYosys's prep refuses it, and Yosys's equiv passes prove a negedge flop equal to a
+    # posedge one): only simulation, which runs both edges, judges it
     other_edge = mutation["port"] == "CLK"
     if "formal" in stages and block.formal_depth is not None and other_edge:
         record["log"].append(f"formal: not run: {OTHER_EDGE}")

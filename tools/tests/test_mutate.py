@@ -115,8 +115,8 @@ def test_a_resumed_run_keeps_the_records_its_retry_option_does_not_run_again():
 
 def test_a_flop_moved_to_the_other_clock_edge_skips_the_formal_stage(tmp_path):
     """A mutation of a flop's clock port is outside the one-edge formal model (SymbiYosys's
-    prep refuses the netlist): the formal stage is recorded as not run, not tried (an error
-    row) and not counted as a kill."""
+    prep refuses the netlist, which left an error row before): the formal stage is recorded
+    as not run, and not counted as a kill."""
     mutation = {**campaign.ORIGINAL, "key": "k", "cell": "$1", "mode": "inv", "port": "CLK"}
     record = campaign.evaluate({"block": "driver", "directory": str(tmp_path),
                                 "stages": ["formal"]}, 1, mutation)
