@@ -56,7 +56,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     expected = {port: [] for port, _ in outputs}
     amplitude = 0.5                     # of Vdc
 
-    hold = 0        # no restore of the settings, no sync before this cycle: a long update runs out
+    hold = 0        # no restore of the settings, no random sync before this cycle: a long update
+                    # runs out (the aimed syncs below come regardless)
     longer_drawn = False
 
     def settings(now):

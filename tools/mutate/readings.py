@@ -28,6 +28,8 @@ _HI_PAST_LAST = (
     " (`delta == hi`, delta <= 128) fails either way, and a match of `after == 256` at the "
     "advance into the last slot is never used (the last slot is held until the next load): "
     "the leg stays on.")
+
+
 def _minimum_bit_cleared(b: int) -> str:
     """Bit b of ``minimum``, set only by the minimum ``2**b`` of that b, read as 0."""
     return (
@@ -41,11 +43,6 @@ def _minimum_bit_cleared(b: int) -> str:
 
 
 READINGS: dict[str, str] = {
-    "rtl/mdfqm_gateware/reference.py:47 reference $mux#0 A[3] const0":
-        "equivalent by reading, not proven: the mutation clears bit 3 of `scaled` only while it"
-        " holds (no beat in the clock before); `scaled` is read only in the clock after a beat "
-        "was taken (`in_scaled`), when it has just been loaded. Yosys's `equiv` pairs `scaled` "
-        "and cannot see that the held value is never read.",
     "rtl/mdfqm_gateware/sequencer.py:119 sequencer $dff#0 Q[10] cnot1/8":
         "equivalent in practice, not proven: `phase` bit 10 is inverted while bit 8 is set "
         "(`phase` >= 256); its only reader, the sync restart's `phase >= latency - 1`, holds "
