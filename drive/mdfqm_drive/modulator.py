@@ -38,6 +38,7 @@ from mdfqm_spec.contract import (
     loop_latency,
     min_period,
     resolution_latency,
+    validate_dead_min,
     validate_zero_policy,
 )
 from mdfqm_spec.regmap import DEFAULT_DEAD_MIN, default_max_bits
@@ -173,7 +174,7 @@ class IpModulator:
         self.period = max(settings.period, min_period(slot_mode, b, short, long_latency))
         self.slots = 1 << b
         self.slot_len = self.period // self.slots
-        self.dt = max(settings.dead, dead_min)
+        self.dt = max(settings.dead, validate_dead_min(dead_min))
         self.mp = settings.min_pulse
         self.osr = max(settings.osr, 1)
         self.f_clk = settings.f_clk

@@ -116,7 +116,11 @@ HURST_DMA0204024B101 = Motor(
 #: range), where the Hurst motor itself stays below 0.14.
 HURST_REWOUND_X5 = HURST_DMA0204024B101.rewound(5.0, "Hurst frame rewound with 5x turns (24 V)")
 
-MOTORS = {"hurst": HURST_DMA0204024B101, "hurst_x5": HURST_REWOUND_X5}
+MOTORS = {"hurst": HURST_DMA0204024B101, "hurst_x5": HURST_REWOUND_X5,
+          # the back-EMF constant is the assumption the switching counts depend on most: the
+          # report repeats the paper's sweep with these two to show how far
+          "hurst_x4": HURST_DMA0204024B101.rewound(4.0, "Hurst frame rewound with 4x turns"),
+          "hurst_x6": HURST_DMA0204024B101.rewound(6.0, "Hurst frame rewound with 6x turns")}
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from mdfqm_drive.loop import ClosedLoop
+from mdfqm_drive.loop import ClosedLoop, Measurement
 from mdfqm_drive.modulator import IpSettings
 from mdfqm_drive.motors import HURST_REWOUND_X5, Load
 from mdfqm_drive.plant import Plant
@@ -26,13 +26,18 @@ def mid_update_offset(period: int, latency: int, dead: int) -> int:
     return (latency + (period + dead) // 2) % period
 
 
+MDFQM_5K = IpSettings(period=2400, osr=4, dead=DEAD, mode="mdfqm",
+                      adc_offset=mid_update_offset(2400, 8, DEAD))
+
 #: fc = 5 kHz: SVPWM at b = 8 with one update per sampling period, sampled at the update edge
 #: (the middle of the zero vector: every leg's on-slots are centred); MDFQM at OSR 4, sampled
-#: mid-update, the measurement docs/drive.md recommends
+#: mid-update, and controlled from the mean of the OSR mid-update samples of the last control
+#: period (the measurement docs/drive.md recommends)
 SETUPS = {
-    "svpwm": IpSettings(period=9600, osr=1, dead=DEAD, mode="svpwm", bits=8, adc_offset=19),
-    "mdfqm": IpSettings(period=2400, osr=4, dead=DEAD, mode="mdfqm",
-                        adc_offset=mid_update_offset(2400, 8, DEAD)),
+    "svpwm": (IpSettings(period=9600, osr=1, dead=DEAD, mode="svpwm", bits=8, adc_offset=19),
+              Measurement()),
+    "mdfqm": (MDFQM_5K, Measurement()),
+    "mdfqm, mean of OSR": (MDFQM_5K, Measurement(average=True)),
 }
 
 
@@ -40,7 +45,9 @@ def speed_step(mode, plant_class=Plant):
     """150 -> 300 rpm with the paper's load; asserts the documented behaviour."""
     motor = HURST_REWOUND_X5
     load = Load.generator(motor, 10.0)          # the paper's load: a PMSM into 10 ohm
-    loop = ClosedLoop(motor, SETUPS[mode], load=load, w_m0=150 * RPM, plant_class=plant_class)
+    settings, measurement = SETUPS[mode]
+    loop = ClosedLoop(motor, settings, load=load, measurement=measurement, w_m0=150 * RPM,
+                      plant_class=plant_class)
     t_step = 0.15
     entry = loop.tuning.band_entry(loop.plant.J, load.k_speed + motor.B, loop.T_c)
     tr = loop.run(t_step + 2 * entry, lambda t: (150 if t < t_step else 300) * RPM).arrays()
@@ -94,7 +101,7 @@ def test_switching_events_are_the_golden_models():
     """2 ms of the MDFQM loop replayed through the clock-level top (the references the
     controller wrote, through the Wishbone registers): the turn-ons at its pins are the ones
     the plant saw."""
-    settings = SETUPS["mdfqm"]
+    settings = MDFQM_5K
     motor = HURST_REWOUND_X5
     loop = ClosedLoop(motor, settings, load=Load.generator(motor, 10.0), w_m0=200 * RPM)
     tr = loop.run(2e-3, lambda t: 200 * RPM)
