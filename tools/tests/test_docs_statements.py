@@ -195,7 +195,8 @@ def perf_rows() -> list[list[str]]:
 
 
 def perf_lut4(design: str, device: str) -> int:
-    rows = [r for r in perf_rows() if r[0] == design and r[2].startswith(device)]
+    rows = [r for r in perf_rows()
+            if r[0] == design and r[1] == "3 / 16" and r[2].startswith(device)]
     assert len(rows) == 1, (design, device)
     return int(rows[0][7])
 
@@ -238,3 +239,40 @@ def test_board_figures_quoted_from_make_report():
     stated = re.search(r"uses about ([\d,]+) of its ([\d,]+) logic cells", body)
     assert stated and number(stated.group(2)) == cells
     assert abs(number(stated.group(1)) - used) <= 0.1 * used
+
+
+def perf_fmax(design: str, device: str) -> tuple[float, str]:
+    """(Fmax, target cell) of a row of the README's perf table."""
+    rows = [r for r in perf_rows()
+            if r[0] == design and r[1] == "3 / 16" and r[2].startswith(device)]
+    assert len(rows) == 1, (design, device)
+    return float(rows[0][4]), rows[0][5]
+
+
+def test_fmax_figures_quoted_from_make_perf():
+    """The README's "Status and known limits" quotes make perf's Fmax of the core and of the
+    whole top on both fronts, and whether each met its target: the table's figures."""
+    body = flat("README.md").split("## Status and known limits", 1)[1]
+    core = re.search(r"the core meets HX8K \(([\d.]+) MHz\) and misses UP5K \(([\d.]+) against "
+                     r"(\d+)\) and ECP5-25F \(([\d.]+) against (\d+)\)", body)
+    assert core
+    for device, fmax, target, met in (("iCE40 HX8K", core.group(1), None, True),
+                                      ("iCE40 UP5K", core.group(2), core.group(3), False),
+                                      ("ECP5-25F", core.group(4), core.group(5), False)):
+        table, cell = perf_fmax("core", device)
+        assert float(fmax) == table and cell.endswith("(met)" if met else "(MISSED)"), device
+        assert target is None or cell.startswith(f"{target} "), (device, cell)
+    top = re.search(r"meets issue 14's HX8K target on both fronts \(Wishbone ([\d.]+), "
+                    r"AXI4-Lite ([\d.]+) MHz, against (\d+)\) and misses the ECP5-25F's "
+                    r"\(Wishbone ([\d.]+), AXI4-Lite ([\d.]+) MHz, against (\d+)\) and the "
+                    r"UP5K's \(Wishbone ([\d.]+), AXI4-Lite ([\d.]+) MHz, against (\d+)\)", body)
+    assert top
+    figures = iter(top.groups())
+    for device, met in (("iCE40 HX8K", True), ("ECP5-25F", False), ("iCE40 UP5K", False)):
+        wishbone, axi, target = next(figures), next(figures), next(figures)
+        for design, fmax in (("top, Wishbone", wishbone), ("top, AXI4-Lite", axi)):
+            table, cell = perf_fmax(design, device)
+            assert float(fmax) == table, (design, device, fmax, table)
+            assert cell == f"{target} ({'met' if met else 'MISSED'})", (design, device, cell)
+    alone = re.search(r"The MDFQM-only top reaches ([\d.]+) on the UP5K", body)
+    assert alone and float(alone.group(1)) == perf_fmax("top, MDFQM only", "iCE40 UP5K")[0]
