@@ -7,7 +7,9 @@ Compiles the RDL with systemrdl-compiler and writes
 - ``spec/mdfqm_spec/regmap_top.py``: the map as plain Python data (committed; what
   :mod:`mdfqm_spec.regmap`, and through it the gateware, the model and the host, use);
 - the register table of ``docs/top.md``, between ``<!-- regmap:begin -->`` and
-  ``<!-- regmap:end -->`` (committed);
+  ``<!-- regmap:end -->``, and its list of the words that hold no register (the AXI4-Lite
+  ``SLVERR`` words), between ``<!-- regmap-unmapped:begin -->`` and
+  ``<!-- regmap-unmapped:end -->`` (committed);
 - into ``--out``: ``mdfqm_top_regs.h`` (PeakRDL-cheader, plus the registers' byte offsets),
   ``mdfqm_top_regs.md`` (PeakRDL-markdown: every register and field) and ``mdfqm_top_regs.xml``
   (PeakRDL-ipxact, IEEE 1685-2014), all for the drop-in configuration (the RDL parameters'
@@ -50,6 +52,8 @@ __all__ = [
     "END",
     "PYTHON_MAP",
     "RDL",
+    "UNMAPPED_BEGIN",
+    "UNMAPPED_END",
     "Compiled",
     "check_clamp",
     "clamp_value",
@@ -59,8 +63,11 @@ __all__ = [
     "main",
     "render_python",
     "render_table",
+    "render_unmapped",
     "splice",
+    "splice_docs",
     "table_of",
+    "unmapped",
 ]
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -68,6 +75,7 @@ RDL = ROOT / "spec" / "rdl" / "mdfqm_top.rdl"
 PYTHON_MAP = ROOT / "spec" / "mdfqm_spec" / "regmap_top.py"
 DOCS = ROOT / "docs" / "top.md"
 BEGIN, END = "<!-- regmap:begin -->", "<!-- regmap:end -->"
+UNMAPPED_BEGIN, UNMAPPED_END = "<!-- regmap-unmapped:begin -->", "<!-- regmap-unmapped:end -->"
 HEADER_NAME, MARKDOWN_NAME, IPXACT_NAME = (f"mdfqm_top_regs.{ext}" for ext in ("h", "md", "xml"))
 TOP_NAME = "mdfqm_top"
 GENERATED = "generated from spec/rdl/mdfqm_top.rdl by tools/regmap_gen.py; do not edit"
@@ -469,19 +477,49 @@ def render_table(data: MapData) -> str:
     return "\n".join(rows) + "\n"
 
 
-def splice(text: str, table: str) -> str:
-    """``text`` with what lies between the markers replaced by ``table``."""
-    if text.count(BEGIN) != 1 or text.count(END) != 1 or text.index(BEGIN) > text.index(END):
-        raise ValueError(f"expected one {BEGIN} ... {END} region")
-    head, rest = text.split(BEGIN)
-    _, tail = rest.split(END)
-    return f"{head}{BEGIN}\n{table}{END}{tail}"
+def unmapped(data: MapData) -> tuple[list[str], list[tuple[int, int]]]:
+    """The words of the bus that hold no register: the arrays (one element per leg: those
+    from ``phases`` on hold none) and the ranges ``(first, last)`` no register holds at all."""
+    arrays = [reg.name for reg in data.registers if reg.count > 1]
+    held = {w for reg in data.registers for w in range(reg.offset, reg.offset + reg.count)}
+    ranges: list[tuple[int, int]] = []
+    for word in sorted(set(range(1 << data.addr_width)) - held):
+        if ranges and ranges[-1][1] == word - 1:
+            ranges[-1] = (ranges[-1][0], word)
+        else:
+            ranges.append((word, word))
+    return arrays, ranges
 
 
-def table_of(text: str) -> str:
+def render_unmapped(data: MapData) -> str:
+    """The list of the words that hold no register, for a sentence of ``docs/top.md``."""
+    arrays, ranges = unmapped(data)
+    parts = ["/".join(f"`{name}[i]`" for name in arrays) + " with `i >= N`"] if arrays else []
+    parts += [f"`0x{a:02X}`" if a == b else f"`0x{a:02X}`-`0x{b:02X}`" for a, b in ranges]
+    return ", ".join(parts)
+
+
+def splice(text: str, table: str, begin: str = BEGIN, end: str = END,
+           inline: bool = False) -> str:
+    """``text`` with what lies between the markers replaced by ``table`` (``inline``: inside
+    a sentence, no line break after the first marker)."""
+    if text.count(begin) != 1 or text.count(end) != 1 or text.index(begin) > text.index(end):
+        raise ValueError(f"expected one {begin} ... {end} region")
+    head, rest = text.split(begin)
+    _, tail = rest.split(end)
+    return f"{head}{begin}{'' if inline else chr(10)}{table}{end}{tail}"
+
+
+def table_of(text: str, begin: str = BEGIN, end: str = END) -> str:
     """The region between the markers (what :func:`render_table` wrote there)."""
-    splice(text, "")                    # checks the markers
-    return text.split(BEGIN)[1].split(END)[0].removeprefix("\n")
+    splice(text, "", begin, end)        # checks the markers
+    return text.split(begin)[1].split(end)[0].removeprefix("\n")
+
+
+def splice_docs(text: str, data: MapData) -> str:
+    """``docs/top.md``'s text with both generated regions rewritten."""
+    text = splice(text, render_table(data))
+    return splice(text, render_unmapped(data), UNMAPPED_BEGIN, UNMAPPED_END, inline=True)
 
 
 # ---------------------------------------------------------------------------- PeakRDL outputs
@@ -535,7 +573,7 @@ def generate(out: Path, rdl: Path | None = None, python_path: Path | None = None
     data = describe(compiled)
     written = write_peakrdl(compiled, data, Path(out))
     python_text = render_python(data)
-    docs_text = splice(docs.read_text(), render_table(data))
+    docs_text = splice_docs(docs.read_text(), data)
     stale = []
     for path, text in ((python_path, python_text), (docs, docs_text)):
         if path.exists() and path.read_text() == text:

@@ -2,8 +2,9 @@
 
 This is the specification of :mod:`mdfqm_gateware.driver`; the gateware must produce every bit
 on every clock that :class:`GateDriverModel` predicts. ``step`` returns the outputs visible
-*during* a cycle (a function of the registers only, like :class:`mdfqm_model.clock.CoreModel`),
-then advances the registers with that cycle's inputs. ``rst`` is synchronous.
+*during* a cycle (a function of the registers only, like :class:`mdfqm_model.clock.CoreModel`,
+except ``short_edge_now``, which also depends on that cycle's inputs), then advances the
+registers with that cycle's inputs. ``rst`` is synchronous.
 
 One leg (:class:`LegModel`)
 ---------------------------
@@ -60,13 +61,15 @@ The N-leg driver (:class:`GateDriverModel`)
   only at the next update boundary with ``enable`` high.
 - ``stop`` (the top's watchdog latch, a synchronous input) acts like ``fault_active`` in the
   cycle it is high: ``drive`` low, every output off in the next cycle, ``active`` cleared.
-- Short edges (``short_edge``, a registered strobe per leg, reset 0): high in the cycle after
-  one in which leg ``i``'s command changed (``cmd[i] != cmd_lat[i]``) while the leg was driven in
-  this cycle and the last (``drive and active``) and had not yet followed the last change: the
-  switch ``cmd_lat[i]`` names was not on, or it was on but still inside its minimum pulse
+- Short edges (``short_edge_now``, combinational per leg: high in a cycle in which leg ``i``'s
+  command changes (``cmd[i] != cmd_lat[i]``) while the leg is driven in this cycle and the
+  last (``drive and active``) and has not yet followed the last change: the switch
+  ``cmd_lat[i]`` names is not on, or it is on but still inside its minimum pulse
   (``cnt + 1 < min_pulse_seen``). Such an edge ends a commanded pulse shorter than the dead time
   plus the minimum pulse, which the rules above swallow (the dead time) or stretch (the minimum
-  pulse): safe, but not what was commanded, so it is reported, never silent.
+  pulse): safe, but not what was commanded, so it is reported, never silent: the top sets
+  ``IRQ_STATUS.SHORT_EDGE`` from it, the clock after the edge. ``short_edge`` (reset 0) is the
+  same, registered: high in the cycle after the edge.
 - Each leg: ``drive = en and not fault_active and not stop``. A synchronised fault (or
   ``stop``) visible in cycle ``t`` turns every output off in cycle ``t + 1``.
 - Pins: ``upper = up ^ upper_active_low``, ``lower = lo ^ lower_active_low`` (the inversion is
@@ -100,7 +103,8 @@ __all__ = [
 DRIVER_INPUTS = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear",
                  "stop")
 #: per-cycle outputs of :meth:`GateDriverModel.step`
-DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active", "short_edge")
+DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active", "short_edge",
+                  "short_edge_now")
 
 
 class LegModel:
@@ -259,6 +263,7 @@ class GateDriverModel:
         en = enable if update else self.active
         drive = int(en and not fault_active and not stop)
         short = self.short_edges(cmd, drive)
+        out["short_edge_now"] = short
         for i, leg in enumerate(self.legs):
             leg.step(rst, (cmd >> i) & 1, drive, self.dead_seen, self.min_pulse_seen)
         self.dead_seen, self.min_pulse_seen = dead, min_pulse

@@ -66,9 +66,10 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   passes ``2**counter_width - 1`` (every per-leg counter wraps no earlier, being at most the
   total since the last clear; not in a ``COUNT_CLEAR`` clock), ``SAMPLE`` in a sampling tick
   (the core's ``sample``: the update that takes the next reference starts, so firmware can
-  write the following one), ``SHORT_EDGE`` when the driver's ``short_edge`` is not zero (a
-  leg's command changed before the leg had followed the last change), ``WATCHDOG`` in the cycle
-  after a watchdog trip.
+  write the following one), ``SHORT_EDGE`` in a cycle with a short edge (the driver's
+  ``short_edge_now`` not zero: a leg's command changes before the leg has followed the last
+  change), ``WATCHDOG`` in the cycle of a watchdog trip (the update start ``s``: the bit is set from
+  ``s + 1``, with the latch).
   ``irq <= |(IRQ_STATUS & IRQ_ENABLE)`` (registered from both
   registers: it follows them one clock later; reset 0).
 - Reference watchdog: a reference *arrives* in a cycle with a beat taken on the port
@@ -486,7 +487,7 @@ class TopModel:
         irq_events = ((IRQ_FAULT if drv_out["fault_input"] and not drv_out["fault"] else 0)
                       | (IRQ_COUNTER_WRAP if wrapped else 0)
                       | (IRQ_SAMPLE if core_out["sample"] else 0)
-                      | (IRQ_SHORT_EDGE if drv_out["short_edge"] else 0)
+                      | (IRQ_SHORT_EDGE if drv_out["short_edge_now"] else 0)
                       | (IRQ_WATCHDOG if trip else 0))
         if core_out["start"]:
             self.core_mode_clamped = int(latch_mode(self.mode_request, self.bits_request, 0)[2])

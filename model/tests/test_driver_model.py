@@ -51,7 +51,7 @@ def test_reset_state_all_off_with_polarity():
     m = GateDriverModel(3, 4, upper_active_low=True)
     o = m.step()
     assert o == {"upper": 0b111, "lower": 0, "event": 0, "fault": 0, "fault_input": 0, "active": 0,
-                 "short_edge": 0}
+                 "short_edge": 0, "short_edge_now": 0}
 
 
 def test_first_turn_on_waits_the_dead_time_after_reset():
@@ -96,7 +96,8 @@ def test_command_follows_an_edge_inside_an_update():
 def test_short_edges_are_reported():
     """Leg 0: a pulse shorter than the dead time is swallowed; leg 1: one shorter than the
     minimum pulse is stretched; leg 2 follows at leisure: only the first two are reported, in
-    the cycle after the edge that ends the short pulse."""
+    the cycle of the edge that ends the short pulse (``short_edge_now``) and, registered, in the
+    cycle after it (``short_edge``)."""
     m = GateDriverModel(3, 1)
     cycles = 60
     h = np.zeros(cycles, dtype=np.int64)
@@ -109,6 +110,8 @@ def test_short_edges_are_reported():
     out = run(m, cycles, dead=4, min_pulse=5, h=h, update=update, enable=1)
     assert not (out["up"] & 1).any()                       # swallowed: never on
     assert pulses((out["up"] >> 1) & 1) == [(35, 5)]       # stretched to 5 clocks
+    assert [(int(t), int(v)) for t, v in enumerate(out["short_edge_now"]) if v] == \
+        [(22, 0b001), (36, 0b010)]
     assert [(int(t), int(v)) for t, v in enumerate(out["short_edge"]) if v] == \
         [(23, 0b001), (37, 0b010)]
     in_force = np.r_[1, np.full(cycles - 1, 4)]             # dead acts a clock late

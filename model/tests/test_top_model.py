@@ -410,6 +410,58 @@ def test_irq_event_in_the_clock_of_its_clear_wins():
     assert m.irq_status & regs.IRQ_SAMPLE and [bus.tick()["irq"] for _ in range(2)][1] == 1
 
 
+def test_short_edge_sets_irq_status_the_clock_after_the_edge():
+    """Written from docs/top.md, "Short edges" and "Interrupt" (issue 30's example): PERIOD 40,
+    DEAD 64, MIN_PULSE 0, IRQ_ENABLE = SHORT_EDGE. An update presents its state at s + L and
+    a switch no longer commanded turns off a clock later: ``lower[0]`` falling in u + 1
+    (u = s + L) is leg 0 commanded up in u. The lower switch back without the upper ever on
+    is leg 0 commanded down at the one state presented in between, t = u + 40, with the upper
+    off: a short edge in t. IRQ_STATUS (cleared in t - 2) read in t is clear, read in t + 1,
+    t + 2, t + 3 set; irq rises in t + 2. One run per read clock, each from a fresh model."""
+    def run(reads, clear_at, cycles):
+        m = TopModel(3, 16, dead_min=2, max_bits=0)
+        writes = {0: (regs.PERIOD, 40), 2: (regs.DEAD, 64), 4: (regs.MIN_PULSE, 0),
+                  6: (regs.IRQ_ENABLE, regs.IRQ_SHORT_EDGE), 8: (regs.CTRL, regs.CTRL_ENABLE)}
+        if clear_at is not None:
+            writes[clear_at] = (regs.IRQ_STATUS, 0xFFFFFFFF)
+        trace, data = [], {}
+        for c in range(cycles):
+            bus = {}
+            if c in writes or c in reads:       # a request, in the clock of the access
+                adr, value = writes.get(c, (reads.get(c), 0))
+                bus = {"wb_cyc": 1, "wb_stb": 1, "wb_we": int(c in writes), "wb_adr": adr,
+                       "wb_dat_w": value}
+            out = m.step(ref_valid=1, ref=[1000, -500, -500], **bus)
+            trace.append((out["sync_out"], out["upper"] & 1, out["lower"] & 1, out["irq"]))
+            if c - 1 in reads:
+                data[c - 1] = out["wb_dat_r"]
+        return trace, data, m.latency
+
+    def short_edge(trace, latency):
+        sync, up0, lo0, _ = zip(*trace, strict=True)
+        starts = [c for c, v in enumerate(sync) if v]
+        for s in starts:
+            u = s + latency
+            if not (lo0[u] and not lo0[u + 1]):
+                continue
+            back = next(c for c in range(u + 1, len(lo0)) if up0[c] or lo0[c])
+            between = [s2 + latency for s2 in starts if u < s2 + latency < back]
+            if lo0[back] and len(between) == 1:
+                return between[0]
+        return None
+
+    trace, _, latency = run({}, None, 800)
+    t = short_edge(trace, latency)
+    assert t is not None, "no short edge aimed: the test is vacuous"
+    status = []
+    for k in range(4):
+        trace, data, _ = run({t + k: regs.IRQ_STATUS}, t - 2, t + 80)
+        assert short_edge(trace, latency) == t
+        status.append(int(bool(data[t + k] & regs.IRQ_SHORT_EDGE)))
+        assert [irq for *_, irq in trace[t - 1:t + 8]] == [0, 0, 0] + [1] * 6, k
+    assert status == [0, 1, 1, 1], status
+
+
 # ------------------------------------------------------------------ modulation mode and b
 def modulation(mode, bits):
     return mode << regs.MODULATION_MODE_SHIFT | bits << regs.MODULATION_BITS_SHIFT

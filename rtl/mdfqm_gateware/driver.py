@@ -244,11 +244,14 @@ class GateDriver(wiring.Component):
         switch off (pin level 1 for an active-low side).
     event : Out(phases)
         Registered strobe per leg: a turn-on (either switch) becomes visible this cycle.
+    short_edge_now : Out(phases)
+        Combinational, per leg: in this cycle the leg's command changes while the leg is driven
+        (this cycle and the one before) but has not followed the last change (the switch then
+        commanded is off, or on inside its minimum pulse): a commanded pulse shorter than the
+        dead time plus the minimum pulse, swallowed or stretched. The top's
+        ``IRQ_STATUS.SHORT_EDGE`` takes it, so that the bit is set the clock after the edge.
     short_edge : Out(phases)
-        Registered strobe per leg: in the cycle before, the leg's command changed while the leg
-        was driven (that cycle and the one before) but had not followed the last change (the
-        switch then commanded was off, or on inside its minimum pulse): a commanded pulse
-        shorter than the dead time plus the minimum pulse, swallowed or stretched.
+        ``short_edge_now`` registered: a strobe in the cycle after the short edge.
     fault : Out(1)
         The fault latch (registered).
     fault_input : Out(1)
@@ -290,6 +293,7 @@ class GateDriver(wiring.Component):
             "upper": Out(phases),
             "lower": Out(phases),
             "event": Out(phases),
+            "short_edge_now": Out(phases),
             "short_edge": Out(phases),
             "fault": Out(1),
             "fault_input": Out(1),
@@ -337,8 +341,9 @@ class GateDriver(wiring.Component):
         lo = Cat(leg.lower for leg in legs)
         followed = Cat(Mux(cmd_lat[i], leg.upper, leg.lower) & ~leg.in_min_pulse
                        for i, leg in enumerate(legs))
-        m.d.sync += self.short_edge.eq(
+        m.d.comb += self.short_edge_now.eq(
             Mux(drive & self.active, (cmd ^ cmd_lat) & ~followed, 0))
+        m.d.sync += self.short_edge.eq(self.short_edge_now)
         ones = (1 << n) - 1
         m.d.comb += [
             self.up.eq(up),

@@ -354,7 +354,7 @@ class MdfqmTop(wiring.Component):
         sources = {regmap.IRQ_FAULT: driver.fault_input & ~driver.fault,
                    regmap.IRQ_COUNTER_WRAP: total_next[-1] & ~count_clear,
                    regmap.IRQ_SAMPLE: core.sample,
-                   regmap.IRQ_SHORT_EDGE: driver.short_edge.any(),
+                   regmap.IRQ_SHORT_EDGE: driver.short_edge_now.any(),
                    regmap.IRQ_WATCHDOG: wd_trip}
         irq_events = Cat(*(sources[1 << bit] for bit in range(irq_bits)))
         cleared = Mux(written(regmap.IRQ_STATUS), word[:irq_bits], 0)

@@ -15,6 +15,7 @@ import pytest
 
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap
+from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import (
     BITS_WIDTH,
     MODE_WIDTH,
@@ -60,6 +61,29 @@ def test_docs_table_is_what_the_rdl_gives(generated):
     tmp, _ = generated
     assert table_of((tmp / "top.md").read_text()) == table_of(regmap_gen.DOCS.read_text()), \
         "docs/top.md's register table is stale: run python -m tools.regmap_gen"
+
+
+def test_docs_slverr_words_are_what_the_rdl_gives(generated):
+    tmp, _ = generated
+    region = (regmap_gen.UNMAPPED_BEGIN, regmap_gen.UNMAPPED_END)
+    assert table_of((tmp / "top.md").read_text(), *region) == \
+        table_of(regmap_gen.DOCS.read_text(), *region), \
+        "docs/top.md's list of the words that hold no register is stale: run " \
+        "python -m tools.regmap_gen"
+
+
+@pytest.mark.parametrize("phases", range(3, 17))
+def test_slverr_words_are_the_words_the_fronts_answer_slverr(compiled, phases):
+    """The words docs/top.md lists as holding no register (arrays from element N on, the
+    ranges) are exactly those the AXI4-Lite front and its model answer SLVERR for
+    (mdfqm_spec.bus.mapped_words, whose responses tb/test_top.py checks), at every N."""
+    data = describe(compiled)
+    arrays, ranges = regmap_gen.unmapped(data)
+    by_name = {reg.name: reg for reg in data.registers}
+    listed = {w for a, b in ranges for w in range(a, b + 1)}
+    listed |= {by_name[name].offset + i for name in arrays
+               for i in range(phases, by_name[name].count)}
+    assert listed == set(range(1 << regmap.ADDR_WIDTH)) - mapped_words(phases)
 
 
 def test_generated_python_map_is_ruff_clean_and_marked(generated):
