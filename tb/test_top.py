@@ -539,7 +539,8 @@ def build_watchdog(b, rng, p):
     """A controller that stalls: the stream pauses (or register commits stop) for random
     stretches against random timeouts (0 = off, 1, small, the clamp of a huge write); trips read
     through STATUS / WATCHDOG_TRIPS / IRQ_STATUS, cleared through CMD (also while the stream is
-    still away, and with COUNT_CLEAR in the same write), a clear in the clock of a trip."""
+    still away, and with COUNT_CLEAR in the same write), a clear in the clock of a trip; then
+    five aimed stalls past a 3-update timeout, so that every run trips the latch."""
     configure(b, period=rng.choice([9, 16, 25]), dead=3, osr=rng.choice([1, 2]))
     b.write(regs.IRQ_ENABLE, regs.IRQ_WATCHDOG)
     b.write(regs.WATCHDOG, 3)
@@ -571,6 +572,17 @@ def build_watchdog(b, rng, p):
         if cycle % 2500 == 0:
             b.modulation()
         b.tick(stream=stall == 0)
+    # the rule's own sequence, whatever the random stretches gave: in MDFQM (short updates),
+    # five stalls longer than a 3-update timeout, each trip cleared after the stream is back
+    b.modulation(mode=0, bits=0)
+    b.write(regs.WATCHDOG, 3)
+    for _ in range(5):
+        b.write(regs.CMD, regs.CMD_WATCHDOG_CLEAR)
+        b.run_until_idle()
+        for _ in range(100):
+            b.tick(stream=True)
+        for _ in range(200):
+            b.tick(stream=False)
     b.read(regs.WATCHDOG_TRIPS)
     b.run_until_idle()
     latch = np.array(b.trace["watchdog"])
