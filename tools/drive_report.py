@@ -328,7 +328,7 @@ def document(results: dict, made: list[str], meta: dict) -> str:
     add("## Speed MSE and current ripple (the paper's Table 2 and its text)")
     add("")
     rows = []
-    for motor in ("hurst_x5", "hurst"):
+    for motor in ("hurst_x4", "hurst_x5", "hurst"):
         for rpm in PAPER_SPEEDS:
             sv = results.get(f"paper/{motor}/5000/svpwm/{rpm}")
             md = results.get(f"paper/{motor}/5000/mdfqm/{rpm}")
@@ -384,7 +384,7 @@ def document(results: dict, made: list[str], meta: dict) -> str:
         "minutes (a sixth of the inverter's loss).")
     add("")
     rows = []
-    for motor in ("hurst_x5", "hurst"):
+    for motor in ("hurst_x4", "hurst_x5", "hurst"):
         for rpm in PAPER_SPEEDS:
             for name in ("svpwm", "mdfqm"):
                 r = results.get(f"paper/{motor}/5000/{name}/{rpm}")

@@ -10,7 +10,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from mdfqm_drive.modulator import IpSettings
 from mdfqm_drive.motors import HURST_DMA0204024B101, HURST_REWOUND_X5, Load
 from mdfqm_drive.plant import DcBus, Plant, ShootThroughError
 from wrongplants import FlippedEmf, SwappedPhases
@@ -233,4 +232,3 @@ def test_cmath_conventions_match_motulator():
     plant.i_d, plant.i_q = 0.7, -1.3
     assert cmath.isclose(complex(abc2complex(np.array(plant.phase_currents()))), plant.i_ab(),
                          abs_tol=1e-12)
-    assert IpSettings(period=100).f_clk == 48e6
