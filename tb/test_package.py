@@ -32,7 +32,8 @@ def test_import_mdfqm_gateware_loads_no_numpy():
 
 def test_every_module_declares_all():
     missing = [str(p.relative_to(ROOT)) for folder in ("spec", "rtl", "model/mdfqm_model",
-                                                       "host/mdfqm_host", "demo", "tools")
+                                                       "host/mdfqm_host", "drive/mdfqm_drive",
+                                                       "demo", "tools")
                for p in sorted((ROOT / folder).rglob("*.py"))
                if "tests" not in p.parts and "__all__" not in p.read_text()]
     assert missing == []

@@ -9,3 +9,5 @@
 
 It imports :mod:`mdfqm_model` and :mod:`mdfqm_spec`; they never import it.
 """
+
+__all__ = []
