@@ -141,10 +141,17 @@ class Adc:
         if self.topology not in ("inline", "shunt"):
             raise ValueError(f"Adc.topology must be 'inline' or 'shunt', not {self.topology!r}")
 
+    @property
+    def lsb(self) -> float:
+        """Amps per code."""
+        return 2 * self.i_range / (1 << self.bits)
+
+    def code(self, i: float) -> int:
+        """The signed code of the current ``i`` (rounded, saturated)."""
+        return min(max(round(i / self.lsb), -(1 << (self.bits - 1))), (1 << (self.bits - 1)) - 1)
+
     def convert(self, i: float) -> float:
-        lsb = 2 * self.i_range / (1 << self.bits)
-        code = min(max(round(i / lsb), -(1 << (self.bits - 1))), (1 << (self.bits - 1)) - 1)
-        return code * lsb
+        return self.code(i) * self.lsb
 
     def sample(self, currents, lower: int):
         """The measured ``i_ab``, or None when fewer than two legs are readable."""
