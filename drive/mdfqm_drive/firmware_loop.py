@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mdfqm_spec.contract import Contract
+from mdfqm_spec.regmap import DEFAULT_DEAD_MIN
 
 from .control import Encoder, Tuning
 from .loop import Measurement, Trace, _turn_ons
@@ -35,7 +36,7 @@ from .modulator import IpSettings
 from .motors import Load, Motor
 from .plant import DcBus, Plant
 
-__all__ = ["FirmwareLoop", "RtlSource", "build", "default_sw_dir"]
+__all__ = ["FirmwareLoop", "RtlSource", "build", "case_loop", "default_sw_dir", "firmware_cost"]
 
 WIDTH = 16
 TOP = f"mdfqm_top_n3_w{WIDTH}"
@@ -81,6 +82,35 @@ def build(out: Path, generated: Path, sw: Path | None = None, jobs: int = 2) -> 
           *(str(root / "include" / f) for f in ("verilated.cpp", "verilated_threads.cpp")),
           "-o", str(lib), "-lpthread", "-latomic"])
     return lib
+
+
+def firmware_cost(out: Path, generated: Path, sw: Path | None = None,
+                  periods: int = 1000) -> dict:
+    """The firmware's cost per control period (OSR 4: one SAMPLE interrupt, four conversions):
+    x86-64 instructions executed in its two entry points (``gcc -O2``, valgrind's callgrind,
+    glibc's sinf/cosf) and bus accesses, from ``sw/sim/firmware_cost.c``. Needs gcc and
+    valgrind."""
+    sw = default_sw_dir() if sw is None else sw
+    gcc, valgrind = shutil.which("gcc"), shutil.which("valgrind")
+    if gcc is None or valgrind is None:
+        raise RuntimeError("the firmware's cost is measured with gcc and valgrind")
+    out.mkdir(parents=True, exist_ok=True)
+    bench = out / "firmware_cost"
+    _run([gcc, *CFLAGS, "-I", str(generated), "-I", str(sw), "-I", str(sw / "foc"),
+          str(sw / "sim" / "firmware_cost.c"), str(sw / "foc" / "mdfqm_foc.c"),
+          str(sw / "mdfqm_driver.c"), "-lm", "-o", str(bench)])
+    trace = out / "callgrind.out"
+    done = subprocess.run([valgrind, "--tool=callgrind", f"--callgrind-out-file={trace}",
+                           "--toggle-collect=mdfqm_foc_irq", "--toggle-collect=mdfqm_foc_adc",
+                           str(bench), str(periods)], check=True, capture_output=True, text=True)
+    words = done.stdout.split()
+    counts = {words[k]: int(words[k + 1]) for k in range(0, len(words) - 1, 2)}
+    total = next(int(line.split()[1]) for line in trace.read_text().splitlines()
+                 if line.startswith("totals:"))
+    version = subprocess.run([valgrind, "--version"], capture_output=True, text=True).stdout
+    return {"instructions": total / periods, "reads": counts["reads"] / periods,
+            "writes": counts["writes"] / periods, "steps": counts["steps"],
+            "periods": periods, "valgrind": version.strip()}
 
 
 def _run(cmd: list[str]) -> None:
@@ -139,6 +169,17 @@ class RtlSource:
 
     def full_scale(self) -> int:
         return self.full
+
+
+def case_loop(case, library: Path) -> FirmwareLoop:
+    """The loop of a :class:`mdfqm_drive.study.Case` through the firmware and the RTL (for
+    ``study.run_case(case, functools.partial(case_loop, library=...))``)."""
+    if case.dead_min != DEFAULT_DEAD_MIN:
+        raise ValueError(f"the drop-in top is built with dead_min {DEFAULT_DEAD_MIN}, "
+                         f"not the case's {case.dead_min}")
+    motor, load = case.machine()
+    return FirmwareLoop(library, motor, case.settings, load=load,
+                        measurement=case.measurement, w_m0=case.w_m0)
 
 
 COUNTERS = ("cycle", "first_update", "bus_reads", "bus_writes", "bus_clocks", "irqs",

@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from collections.abc import Callable
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 
@@ -39,7 +40,7 @@ from mdfqm_spec.regmap import DEFAULT_DEAD_MIN
 from .control import Adc
 from .loop import ClosedLoop, Measurement
 from .modulator import IpModulator, IpSettings
-from .motors import MOTORS, Load
+from .motors import MOTORS, Load, Motor
 
 __all__ = ["Case", "Mosfet", "metrics", "run_case", "sweep"]
 
@@ -87,23 +88,34 @@ class Case:
     record: bool = True
     dead_min: int = DEFAULT_DEAD_MIN  # the IP's elaboration floor on DEAD (1: nearly none)
     label: str = ""
+    w_m0_offset: float = 0.0       # rad/s added to the initial speed: a run's own spread
 
-    def build(self) -> ClosedLoop:
+    def machine(self) -> tuple[Motor, Load]:
+        """The motor and its load."""
         motor = MOTORS[self.motor]
         if self.load == "paper":
-            load = Load.generator(motor, 10.0)
-        elif self.load == "const":
-            load = Load(tau_const=self.load_fraction * motor.tau_rated, J=motor.J)
-        else:
-            raise ValueError(f"Case.load must be 'paper' or 'const', not {self.load!r}")
+            return motor, Load.generator(motor, 10.0)
+        if self.load == "const":
+            return motor, Load(tau_const=self.load_fraction * motor.tau_rated, J=motor.J)
+        raise ValueError(f"Case.load must be 'paper' or 'const', not {self.load!r}")
+
+    @property
+    def w_m0(self) -> float:
+        """The initial speed (rad/s)."""
+        return self.rpm * RPM + self.w_m0_offset
+
+    def build(self) -> ClosedLoop:
+        """The model path's loop."""
+        motor, load = self.machine()
         return ClosedLoop(motor, self.settings, load=load, measurement=self.measurement,
-                          w_m0=self.rpm * RPM,
+                          w_m0=self.w_m0,
                           edge_source=IpModulator(self.settings, dead_min=self.dead_min))
 
 
-def run_case(case: Case) -> dict:
-    """Run ``case``; return its metrics (plain floats and lists: picklable, JSON-able)."""
-    loop = case.build()
+def run_case(case: Case, build: Callable | None = None) -> dict:
+    """Run ``case`` on the loop ``build(case)`` returns (default :meth:`Case.build`, the model
+    path); return its metrics (plain floats and lists: picklable, JSON-able)."""
+    loop = case.build() if build is None else build(case)
     w0, w1 = case.rpm * RPM, (case.step_to if case.step_to is not None else case.rpm) * RPM
 
     def w_ref(t):
@@ -227,16 +239,17 @@ def _waveform_metrics(tr, motor, case, u_dc, mosfet: Mosfet) -> dict:
     return out
 
 
-def sweep(cases, executor: Executor | None = None, progress=None) -> list[dict]:
-    """Run every case through ``executor.map`` (default: a process pool over all cores);
-    ``progress(done, total)`` after each. Results in the order of ``cases``."""
+def sweep(cases, executor: Executor | None = None, progress=None, runner=run_case) -> list[dict]:
+    """Run every case through ``executor.map(runner, cases)`` (default: a process pool over all
+    cores, :func:`run_case`); ``progress(done, total)`` after each. Results in the order of
+    ``cases``."""
     cases = list(cases)
     own = executor is None
     if own:
         executor = ProcessPoolExecutor(max_workers=os.cpu_count() or 1)
     try:
         results = []
-        for n, res in enumerate(executor.map(run_case, cases), 1):
+        for n, res in enumerate(executor.map(runner, cases), 1):
             results.append(res)
             if progress is not None:
                 progress(n, len(cases))
