@@ -45,8 +45,9 @@ forward; the consistent choice, as an ideal diode's complementarity asks). Withi
 - two or three blocked: no current.
 
 An event ends a sub-step early: a diode's current reaching zero, or a blocked leg's pole leaving
-the rails (its diode turning forward); the instant is found by bisection to 1e-12 s on the same
-sub-step solution, then the conduction state is found again.
+the rails (its diode turning forward); the instant is found on the same sub-step solution (regula
+falsi, to 1e-12 s or 1e-12 past the event's threshold), then the conduction state is found
+again.
 """
 
 from __future__ import annotations
@@ -69,7 +70,8 @@ _ANGLE = (0.0, 2 * math.pi / 3, 4 * math.pi / 3)
 _STEP_MAX = 25e-6          # s, the longest sub-step while a diode conducts or blocks
 _STEPS_PER_PERIOD = 400    # sub-steps per electrical period at least
 _BUS_STEP = 2e-3           # a capacitor bus moves by at most this fraction in a sub-step
-_T_EVENT = 1e-12           # s, the bisection's resolution of a conduction event
+_T_EVENT = 1e-12           # s, the root finder's resolution of a conduction event
+_EVENT_PAST = 1e-12        # how far past its threshold an event may be found (relative)
 _V_TOL = 1e-9              # of Vdc: a blocked pole this far beyond its rail is still blocked
 _I_TOL = 1e-9              # of Vdc / R_s: a current this small is no current
 
@@ -291,18 +293,9 @@ to the back-EMF's curvature within an interval).
             h = min(remaining, self._substep(modes, remaining))
             state = (self.i_d, self.i_q, self.theta, self.theta_m, self.w_m, self.u_dc)
             trial = self._trial(state, modes, h)
-            if self._event(trial, modes, diodes):
-                lo, hi = 0.0, h
-                while hi - lo > _T_EVENT:
-                    mid = 0.5 * (lo + hi)
-                    if not lo < mid < hi:
-                        break
-                    at_mid = self._trial(state, modes, mid)
-                    if self._event(at_mid, modes, diodes):
-                        hi, trial = mid, at_mid
-                    else:
-                        lo = mid
-                h = hi
+            late = self._event_value(trial, modes, diodes)
+            if late > 0:
+                h, trial = self._find_event(state, modes, diodes, h, trial, late)
                 # a state that events at once again and again would never end: refuse
                 stalls = stalls + 1 if h <= 4 * _T_EVENT else 0
                 if stalls > 50:
@@ -512,19 +505,47 @@ to the back-EMF's curvature within an interval).
         theta = (th0 + self.motor.n_p * w_m0 * t + math.pi) % (2 * math.pi) - math.pi
         return (0.0, 0.0, theta, thm0 + w_m0 * t, w_m1, self._bus_after(u0, t, 0.0), 0.0)
 
-    def _event(self, trial, modes, diodes) -> bool:
-        """Whether, at ``trial``'s end, a diode's current has reversed or a blocked pole lies
-        beyond a rail."""
+    def _event_value(self, trial, modes, diodes) -> float:
+        """> 0 if, at ``trial``'s end, a diode's current has reversed or a blocked pole lies
+        beyond a rail: the largest such excess (relative: over Vdc / R_s, over Vdc)."""
+        value = -math.inf
         if diodes:
             currents = _phases(trial[0], trial[1], trial[2])
+            scale = self._i_eps / _I_TOL
             for k, sign in diodes.items():
-                if sign * currents[k] < -self._i_eps:
-                    return True
-        if any(mode is None for mode in modes):
+                value = max(value, -sign * currents[k] / scale - _I_TOL)
+        if None in modes:
             margin, _ = self._blocked_margin(trial[:6], modes)
-            if margin > 2 * _V_TOL * trial[5]:
-                return True
-        return False
+            value = max(value, margin / trial[5] - 2 * _V_TOL)
+        return value
+
+    def _find_event(self, state, modes, diodes, h, trial, late):
+        """The first instant in ``(0, h]`` at which :meth:`_event_value` turns positive, and the
+        trial there: regula falsi with the Illinois modification (a bracket ``[early, late]``;
+        superlinear on these smooth functions), ending just past the event."""
+        start = (*state, 0.0)
+        lo, f_lo = 0.0, min(self._event_value(start, modes, diodes), 0.0)
+        hi, f_hi = h, late
+        side = 0
+        for _ in range(100):
+            if hi - lo <= _T_EVENT or late <= _EVENT_PAST:
+                break
+            t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+            if not lo < t < hi:
+                t = 0.5 * (lo + hi)
+            at = self._trial(state, modes, t)
+            value = self._event_value(at, modes, diodes)
+            if value > 0:
+                hi, f_hi, trial, late = t, value, at, value
+                if side == 1:
+                    f_lo *= 0.5
+                side = 1
+            else:
+                lo, f_lo = t, value
+                if side == -1:
+                    f_hi *= 0.5
+                side = -1
+        return hi, trial
 
     def _commit(self, trial, t):
         self.i_d, self.i_q, self.theta, self.theta_m, self.w_m, self.u_dc, energy = trial
