@@ -46,8 +46,8 @@ forward; the consistent choice, as an ideal diode's complementarity asks). Withi
 
 An event ends a sub-step early: a diode's current reaching zero, or a blocked leg's pole leaving
 the rails (its diode turning forward); the instant is found on the same sub-step solution (regula
-falsi, to 1e-12 s or 1e-12 past the event's threshold), then the conduction state is found
-again.
+falsi, to 1e-12 s or to just past the event: a current 1e-9 of Vdc/R_s beyond zero, a pole 1e-9
+of Vdc beyond its rail), then the conduction state is found again.
 """
 
 from __future__ import annotations
@@ -66,12 +66,13 @@ _A2 = _A * _A
 _PHASE = (1.0 + 0j, _A, _A2)          # phase k's axis, a^k
 _PHASE_CONJ = (1.0 + 0j, _A2, _A)     # its conjugate: phase k's current is Re(i_ab a^-k)
 _ANGLE = (0.0, 2 * math.pi / 3, 4 * math.pi / 3)
+_SIN_120 = math.sin(2 * math.pi / 3)
 
 _STEP_MAX = 25e-6          # s, the longest sub-step while a diode conducts or blocks
 _STEPS_PER_PERIOD = 400    # sub-steps per electrical period at least
 _BUS_STEP = 2e-3           # a capacitor bus moves by at most this fraction in a sub-step
 _T_EVENT = 1e-12           # s, the root finder's resolution of a conduction event
-_EVENT_PAST = 1e-12        # how far past its threshold an event may be found (relative)
+_EVENT_PAST = 1e-9         # how far past its threshold an event may be found (relative)
 _V_TOL = 1e-9              # of Vdc: a blocked pole this far beyond its rail is still blocked
 _I_TOL = 1e-9              # of Vdc / R_s: a current this small is no current
 
@@ -305,7 +306,7 @@ to the back-EMF's curvature within an interval).
             self._stop_reversed(modes, diodes)
 
     def _substep(self, modes, remaining: float) -> float:
-        if all(mode is None for mode in modes) and self._stays_blocked(remaining):
+        if modes.count(None) == 3 and self._stays_blocked(remaining):
             return remaining
         h = self._step_max()
         i = abs(complex(self.i_d, self.i_q))
@@ -405,9 +406,9 @@ to the back-EMF's curvature within an interval).
             d_ab = (complex(did, diq) + 1j * w * complex(i_d, i_q)) * cmath.exp(1j * theta)
             return -math.inf, tuple((d_ab * _PHASE_CONJ[k]).real for k in range(3))
         if len(clamped) == 2:
-            k = next(j for j in range(3) if modes[j] is None)
+            k = modes.index(None)
             x = (complex(i_d, i_q) * _axis(theta, k).conjugate()).imag
-            x_rate, p_k = self._pair_rates(x, theta, w, k, p)
+            x_rate, p_k = self._pair_rates(x, theta, w, k, _known_voltage(p, k))
             rates = tuple(0.0 if j == k else -x_rate * math.sin(_ANGLE[k] - _ANGLE[j])
                           for j in range(3))
             return max(p_k - u_dc, -p_k), rates
@@ -420,17 +421,18 @@ to the back-EMF's curvature within an interval).
                        for k in range(3) if k != c), None
         return max(emf) - min(emf) - u_dc, None
 
-    def _pair_rates(self, x, theta, w, k, p):
-        """Leg ``k`` blocked, the other two carrying ``i_ab = j a^k x``: ``(dx/dt, pole k)``.
+    def _pair_rates(self, x, theta, w, k, u_known):
+        """Leg ``k`` blocked, the other two carrying ``i_ab = j a^k x``, the other two poles'
+        voltage ``u_known`` (:func:`_known_voltage`): ``(dx/dt, pole k)``.
 
         In rotor coordinates the current lies along ``j n``, ``n = e^(-j (theta - 2 pi k / 3))``
         (phase k's axis), which turns at ``-w``; the blocked pole enters the voltage as
         ``(2/3) p_k n``, and is whatever keeps the current on that line:
         ``Re(di/dt conj(n)) = x w``; then ``dx/dt = Im(di/dt conj(n))``."""
         m = self.motor
-        n = _axis(theta, k)
-        u0 = (2.0 / 3.0) * sum(p[j] * _PHASE[j] for j in range(3) if j != k)
-        u0 *= cmath.exp(-1j * theta)
+        rotor = cmath.exp(-1j * theta)
+        n = rotor * _PHASE[k]
+        u0 = u_known * rotor
         i = 1j * n * x
         f0 = complex((u0.real - m.R_s * i.real + w * m.L_q * i.imag) / m.L_d,
                      (u0.imag - m.R_s * i.imag - w * m.L_d * i.real - w * m.psi_f) / m.L_q)
@@ -441,7 +443,7 @@ to the back-EMF's curvature within an interval).
 
     def _trial(self, state, modes, t):
         """The state after ``t`` in conduction state ``modes`` (nothing is changed)."""
-        clamped = sum(mode is not None for mode in modes)
+        clamped = 3 - modes.count(None)
         if clamped == 3:
             return self._trial_clamped(state, modes, t)
         if clamped == 2:
@@ -473,20 +475,21 @@ to the back-EMF's curvature within an interval).
         i_d1, i_q1 = _currents_after(t, i_d0, i_q0, u_ab, th0, w, self.motor)
         c0 = _phases(i_d0, i_q0, th0)
         c1 = _phases(i_d1, i_q1, th0 + w * t)
-        p_dot_i = 0.5 * sum(p[k] * (c0[k] + c1[k]) for k in range(3))
+        p_dot_i = 0.5 * (p[0] * (c0[0] + c1[0]) + p[1] * (c0[1] + c1[1]) + p[2] * (c0[2] + c1[2]))
         return self._finish(state, t, i_d1, i_q1, w_mid, tau0, p_dot_i)
 
     def _trial_pair(self, state, modes, t):
         i_d0, i_q0, th0, _, w_m0, u0 = state
-        k = next(j for j in range(3) if modes[j] is None)
+        k = modes.index(None)
         p = [u0 if mode == 1 else 0.0 for mode in modes]
+        u_known = _known_voltage(p, k)
         tau0 = self.torque(i_d0, i_q0)
         w_mid = self._mid_speed(w_m0, tau0, t)
         w = self.motor.n_p * w_mid
         x0 = (complex(i_d0, i_q0) * _axis(th0, k).conjugate()).imag
 
         def rate(tt, x):
-            return self._pair_rates(x, th0 + w * tt, w, k, p)[0]
+            return self._pair_rates(x, th0 + w * tt, w, k, u_known)[0]
 
         k1 = rate(0.0, x0)
         k2 = rate(0.5 * t, x0 + 0.5 * t * k1)
@@ -494,9 +497,9 @@ to the back-EMF's curvature within an interval).
         k4 = rate(t, x0 + t * k3)
         x1 = x0 + t * (k1 + 2 * k2 + 2 * k3 + k4) / 6
         i1 = 1j * _axis(th0 + w * t, k) * x1
-        # the two conducting legs carry -x sin(phi_k - phi_j)
-        p_dot_i = 0.5 * (x0 + x1) * sum(-p[j] * math.sin(_ANGLE[k] - _ANGLE[j])
-                                        for j in range(3) if j != k)
+        # leg j of the two carries -x sin(phi_k - phi_j): sin(-2 pi / 3) for the next leg
+        # after k, sin(2 pi / 3) for the one before
+        p_dot_i = 0.5 * (x0 + x1) * _SIN_120 * (p[(k + 1) % 3] - p[(k + 2) % 3])
         return self._finish(state, t, i1.real, i1.imag, w_mid, tau0, p_dot_i)
 
     def _trial_open(self, state, t):
@@ -584,6 +587,12 @@ def _phases(i_d, i_q, theta):
     return z.real, (z * _A2).real, (z * _A).real
 
 
+def _known_voltage(p, k):
+    """The stationary voltage vector of the poles other than ``k``: ``(2/3) sum p_j a^j``."""
+    return (2.0 / 3.0) * (p[(k + 1) % 3] * _PHASE[(k + 1) % 3]
+                          + p[(k + 2) % 3] * _PHASE[(k + 2) % 3])
+
+
 def _axis(theta, k):
     """Phase ``k``'s axis in rotor coordinates."""
     return cmath.exp(-1j * (theta - _ANGLE[k]))
@@ -592,8 +601,19 @@ def _axis(theta, k):
 def _currents_after(dt, i_d, i_q, u_ab, theta, w, m: Motor):
     """``(i_d, i_q)`` after ``dt`` with the stationary voltage ``u_ab`` held and the electrical
     speed ``w`` constant: ``x(t) = E x0 + Re[(A + jw)^-1 (E - e^{-jwt}) c] + A^-1 (E - I) g``,
-    ``E = e^{At}``, ``c = (U/L_d, -jU/L_q)``, ``U = u_ab e^{-j theta}``, ``g = (0, -w psi/L_q)``."""
+    ``E = e^{At}``, ``c = (U/L_d, -jU/L_q)``, ``U = u_ab e^{-j theta}``, ``g = (0, -w psi/L_q)``.
+
+    With ``L_d = L_q = L`` (a surface motor) the system is one complex equation,
+    ``L di/dt = U e^{-jwt} - (R + jwL) i - jw psi``, whose solution is
+    ``i = e^{-(R/L + jw) t} (i_0 - i_c - U/R) + i_c + (U/R) e^{-jwt}``, ``i_c = -jw psi /
+    (R + jwL)``: the same numbers (to 1e-13) at 2.5x the speed."""
     R, Ld, Lq, psi = m.R_s, m.L_d, m.L_q, m.psi_f
+    if Ld == Lq:
+        i_c = -1j * w * psi / complex(R, w * Ld)
+        u = u_ab * cmath.exp(-1j * theta) / R
+        z = (cmath.exp(complex(-R / Ld, -w) * dt) * (complex(i_d, i_q) - i_c - u) + i_c
+             + u * cmath.exp(-1j * w * dt))
+        return z.real, z.imag
     a, b, c, d = -R / Ld, w * Lq / Ld, -w * Ld / Lq, -R / Lq
     mu = 0.5 * (a + d)
     h = 0.5 * (a - d)
