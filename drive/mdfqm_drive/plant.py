@@ -192,7 +192,12 @@ to the back-EMF's curvature within an interval).
             # the end of the interval (a sub-step is too short for a current to cross zero and
             # come back)
             keep = self._freewheeling(blanked, currents)
-            if keep and self._advance_poles(dt, p, currents, keep):
+            if keep:
+                failed = self._advance_poles(dt, p, currents, keep)
+                if failed is None:
+                    return
+                # a current reached zero: the events start from this attempt
+                self._advance_events(dt, upper, lower, failed)
                 return
         self._advance_events(dt, upper, lower)
 
@@ -219,10 +224,11 @@ to the back-EMF's curvature within an interval).
         return keep
 
     def _advance_poles(self, dt: float, p: tuple[float, float, float], currents,
-                       keep=()) -> bool:
+                       keep=()) -> tuple | None:
         """Advance with the pole voltages ``p`` held from the phase currents ``currents``; with
         ``keep`` (``[(leg, sign)]``), only if each of those legs' currents still has that sign
-        at the end (returns whether it did)."""
+        at the end. Returns None if it advanced; else, unchanged, the trial (see
+        :meth:`_trial`) of the whole interval."""
         m = self.motor
         u_ab = (2.0 / 3.0) * (p[0] + _A * p[1] + _A2 * p[2])
         i_d0, i_q0, th0 = self.i_d, self.i_q, self.theta
@@ -239,7 +245,11 @@ to the back-EMF's curvature within an interval).
         end = _phases(i_d1, i_q1, th1)
         for k, sign in keep:
             if sign * end[k] <= self._i_eps:
-                return False
+                state = (i_d0, i_q0, th0, self.theta_m, w_m0, self.u_dc)
+                p_dot_i = 0.5 * (p[0] * (currents[0] + end[0]) + p[1] * (currents[1] + end[1])
+                                 + p[2] * (currents[2] + end[2]))
+                return self._finish(state, dt, i_d1, i_q1, w_mid, self.torque(i_d0, i_q0),
+                                    p_dot_i)
         self.i_d, self.i_q = i_d1, i_q1
         tau = 0.5 * (self.torque(i_d0, i_q0) + self.torque())
         self.theta = (th1 + math.pi) % (2 * math.pi) - math.pi
@@ -254,7 +264,7 @@ to the back-EMF's curvature within an interval).
         self.energy_dc += i_dc * self.u_dc * dt
         self._advance_bus(dt, i_dc)
         self.t += dt
-        return True
+        return None
 
     def _accel(self, tau: float, w_m: float) -> float:
         return (tau - self.motor.B * w_m - self.load.torque(w_m)) / self.J
@@ -286,14 +296,18 @@ to the back-EMF's curvature within an interval).
     # A state tuple is ``(i_d, i_q, theta, theta_m, w_m, u_dc)``; a trial appends the energy
     # drawn from the bus.
 
-    def _advance_events(self, dt: float, upper: int, lower: int) -> None:
+    def _advance_events(self, dt: float, upper: int, lower: int, first=None) -> None:
+        """Advance through the conduction events; ``first``: the trial of the whole interval
+        in the conduction state of the currents' signs, if already solved."""
         remaining = dt
         stalls = 0
         while remaining > 0:
             modes, diodes = self._conduction(upper, lower)
             h = min(remaining, self._substep(modes, remaining))
             state = (self.i_d, self.i_q, self.theta, self.theta_m, self.w_m, self.u_dc)
-            trial = self._trial(state, modes, h)
+            reuse = first is not None and h == dt
+            trial = first if reuse else self._trial(state, modes, h)
+            first = None
             late = self._event_value(trial, modes, diodes)
             if late > 0:
                 h, trial = self._find_event(state, modes, diodes, h, trial, late)
