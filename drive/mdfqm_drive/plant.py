@@ -107,8 +107,8 @@ class Plant:
     State (read freely): ``i_d``, ``i_q`` (A), ``theta`` (electrical angle, rad, wrapped to
     [-pi, pi)), ``w_m`` (mechanical speed, rad/s), ``theta_m`` (mechanical angle, unwrapped),
     ``u_dc`` (V), ``t`` (s). Accumulated since the start: ``energy_dc`` (J drawn from the bus),
-``i_peak`` (A, the largest phase current at an edge; the current's extremes are at edges, up
-to the back-EMF's curvature within an interval).
+    ``i_peak`` (A, the largest phase current at an edge or at the end of a diode sub-step; the
+    current's extremes are there, up to the back-EMF's curvature within an interval).
     """
 
     def __init__(self, motor: Motor, load: Load | None = None, bus: DcBus | None = None,
@@ -125,7 +125,7 @@ to the back-EMF's curvature within an interval).
         self.u_dc = self.bus.u_source
         self.t = 0.0
         self.energy_dc = 0.0
-        self.i_peak = 0.0  # the largest phase-current magnitude |i_ab| at an edge so far
+        self.i_peak = 0.0  # the largest phase current at an edge (or a diode sub-step's end)
         self.speed_locked = False  # True: the shaft is held at w_m (a locked rotor or a dyno)
         self._i_eps = _I_TOL * motor.u_dc / motor.R_s
 
@@ -577,7 +577,7 @@ to the back-EMF's curvature within an interval).
         stopped = [k for k, sign in diodes.items() if sign * currents[k] < -self._i_eps]
         if not stopped:
             return
-        if len(stopped) > 1 or any(mode is None for mode in modes):
+        if len(stopped) > 1 or None in modes:
             self.i_d = self.i_q = 0.0
         else:
             self._zero_leg(stopped[0])
