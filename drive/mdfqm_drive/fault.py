@@ -90,9 +90,10 @@ def fault_case(motor: Motor, speed_rpm: float, u_dc: float | None = None,
     periods = max(1, math.floor(0.5 * duration / period))
     window = min(periods * period, duration)
     upper, lower = REACTIONS[reaction]
-    steps = max(1, round(duration / sample))
+    steps = max(2, round(duration / sample))  # a window needs a sample after the first
     dt = duration / steps
-    start = steps - max(1, round(window / dt))
+    # the window is samples start..steps: whole periods, after the first sample at least
+    start = max(1, steps - max(1, round(window / dt)))
     window = (steps - start) * dt
     i_peak = max(abs(c) for c in plant.phase_currents())
     plant.advance(min(dead_time, dt), 0, 0)
