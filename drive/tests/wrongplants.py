@@ -33,3 +33,15 @@ class _NegativeFlux:
     def __getattr__(self, name):
         value = getattr(self._m, name)
         return -value if name == "psi_f" else value
+
+
+class SignRule(Plant):
+    """Wrong on purpose: a blanked leg stays on the diode of its current's sign at the start of
+    the interval, even after that current has reached zero (motulator's rule, and this plant's
+    before its diodes could block)."""
+
+    def advance(self, dt, upper, lower):
+        if dt <= 0 or (not (upper | lower) & 7 and self.i_d == self.i_q == 0.0):
+            super().advance(dt, upper, lower)
+            return
+        self._advance_poles(dt, self.pole_voltages(upper, lower), self.phase_currents())
