@@ -278,7 +278,8 @@ def test_sby_finds_a_watchdog_that_does_not_stop_the_gates(monkeypatch):
     """The top with its watchdog latch no longer reaching the driver: "gates off a clock after
     the latch" has a counterexample (a free core, so the trip is a few clocks away)."""
     monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
-    site = assertion_site(top_module.__file__, "gates on a clock after the watchdog latch")
+    site = assertion_site(top_module.__file__,
+                          "gates on a clock after the watchdog latch (but the ASC switches)")
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(UnwiredWatchdogTop(3, 16, dead_min=2, formal=True), "top_watchdog_unwired", 14,
                 tasks=("bmc",), keep_failed=False)

@@ -382,6 +382,7 @@ def check_gate_safety(
     kill: Sequence[int] | None = None,
     rst: Sequence[int] | None = None,
     dt_run0: Sequence[int] | None = None,
+    reaction: Sequence[int] | None = None,
 ) -> int:
     """Check the absolute safety properties on an active-high gate trace, independently of
     :class:`LegModel`'s state machine. Raises :class:`SafetyError`, returns the number of
@@ -396,7 +397,9 @@ def check_gate_safety(
        interval, or ``dt_run0`` for an interval that began before cycle 0) and
        ``g >= dead[t - 1]`` (the one in force when the turn-on was decided); the interval
        open at cycle 0 counts from cycle 0;
-    3. ``kill[t]`` (e.g. the synchronised fault) high: every gate off in cycle ``t + 1``;
+    3. ``kill[t]`` (e.g. the synchronised fault) high: every gate off in cycle ``t + 1``, but
+       the ASC switches of ``reaction[t + 1]`` when given (the reaction in force in that cycle:
+       1 the lower switches may be on, 2 the upper ones);
     4. ``rst[t]`` high: every gate off in cycle ``t + 1``.
     """
     up = np.asarray(up, dtype=np.int64)
@@ -407,11 +410,16 @@ def check_gate_safety(
     if len(both):
         t = int(both[0])
         raise SafetyError(f"cycle {t}: both switches on, up={up[t]:#x} lo={lo[t]:#x}")
+    asc = np.zeros(c, dtype=np.int64) if reaction is None else np.asarray(reaction, np.int64)
     for name, arr in (("kill", kill), ("rst", rst)):
         if arr is None:
             continue
         arr = np.asarray(arr, dtype=np.int64)
-        hits = np.flatnonzero(arr[:-1] & (((up[1:] | lo[1:]) & mask) != 0))
+        others_up, others_lo = up, lo
+        if name == "kill":
+            others_up = np.where(asc == 2, 0, up)
+            others_lo = np.where(asc == 1, 0, lo)
+        hits = np.flatnonzero(arr[:-1] & (((others_up[1:] | others_lo[1:]) & mask) != 0))
         if len(hits):
             t = int(hits[0])
             raise SafetyError(f"cycle {t + 1}: gates on one clock after {name} (cycle {t})")

@@ -299,6 +299,11 @@ def test_safety_checker_catches_violations():
         check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[1, 1, 4, 1, 1])
     with pytest.raises(SafetyError, match="one clock after kill"):
         check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0])
+    # under an ASC its switches may stay on after a kill, the others may not
+    assert check_gate_safety([0, 0], [1, 1], 1, kill=[1, 0], reaction=[1, 1]) == 0
+    assert check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0], reaction=[2, 2]) == 0
+    with pytest.raises(SafetyError, match="one clock after kill"):
+        check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0], reaction=[1, 1])
     assert check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[2, 1, 2, 1, 1]) == 1
 
 
@@ -397,7 +402,8 @@ def test_asc_low_on_a_fault_then_all_off_then_clear():
     assert list(out["fault"][55:58]) == [1, 0, 0]
     assert (out["up"][61:] == 0b011).all() and (out["lo"][61:] == 0b100).all()
     assert list(out["event"][33:36]) == [0, 0, 0b011]   # the ASC turn-ons are events
-    check_gate_safety(out["up"], out["lo"], 3, dead=np.full(cycles, 2))
+    check_gate_safety(out["up"], out["lo"], 3, dead=np.full(cycles, 2),
+                      kill=out["fault_input"] | out["fault"], reaction=out["reaction"])
 
 
 def test_asc_ends_on_the_clear_through_all_off_even_at_an_update():
