@@ -144,8 +144,9 @@ class ReactionEpisodes:
     """The fault-reaction scenario: every 160 clocks an episode, a fault, a watchdog stop or
     both (in one clock or one after the other) with random reactions (codes 0-3; the first
     fifteen episodes walk every source and reaction, code 3, a reset in an ASC and a second
-    source after the first), at a random clock of short updates (so that legs are on, inside their minimum pulse or inside a dead
-    time), maybe a new reaction input, ALL_OFF or a reset during it, then the clears."""
+    source after the first), at a random clock of short updates (so that legs are on, inside
+    their minimum pulse or inside a dead time), maybe a new reaction input, ALL_OFF or a
+    reset during it, then the clears."""
 
     LENGTH = 160
 
@@ -304,7 +305,8 @@ async def run_scenario(dut, scenario, cycles):
     assert turn_ons >= 20, f"driver_{scenario}: only {turn_ons} turn-ons, the test is vacuous"
     if scenario == "fault_reaction":        # functional coverage of the fault reaction
         want = REACTION_BINS if p["asc"] else REACTION_BINS_ALL_OFF
-        assert not want - hit, f"driver_{scenario}: bins never reached {sorted(want - hit, key=str)}"
+        missing = sorted(want - hit, key=str)
+        assert not missing, f"driver_{scenario}: bins never reached {missing}"
         if not p["asc"]:
             assert not any(b[0] == "first" and b[2] for b in hit if isinstance(b, tuple)), \
                 "an ASC without the ASC built in"

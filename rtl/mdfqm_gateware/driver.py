@@ -40,9 +40,10 @@ class LegDriver(wiring.Component):
     The rules (:class:`mdfqm_model.driver.LegModel`): ``asc_lo`` (``asc_hi``) high: the lower
     (upper) switch is the ASC switch: it stays on if on, the other one turns off on the next
     clock, and from both off the ASC switch turns on once both have been off ``dt_req`` clocks;
-    otherwise ``drive`` low turns both off on the next clock; the on switch stays on while it is commanded; a switch that is no longer commanded
-    turns off once it has been on ``min_pulse`` clocks (shorter pulses are stretched); the
-    commanded switch turns on once both have been off ``dt_req`` clocks,
+    otherwise ``drive`` low turns both off on the next clock; the on switch stays on while it
+    is commanded; a switch that is no longer commanded turns off once it has been on
+    ``min_pulse`` clocks (shorter pulses are stretched); the commanded switch turns on once
+    both have been off ``dt_req`` clocks,
     ``dt_req = max(dt_run, max(dead, dead_min))``, ``dt_run`` the clamped dead time of the last
     cycle a switch was on (kept through reset: a dead time already running is never shortened,
     by a smaller ``dead`` or by a reset).
@@ -216,6 +217,7 @@ class LegDriver(wiring.Component):
             due_prev.eq(~on & (cnt + 1 >= dt) & (cnt + 1 >= dt_run)),
         ]
         m.d.comb += Assume(~(self.asc_lo & self.asc_hi))
+        asc_prev = asc_lo_prev | asc_hi_prev
         with m.If(on):
             m.d.sync += need.eq(dt)
         turn_on = on & ~on_prev
@@ -227,10 +229,10 @@ class LegDriver(wiring.Component):
             Assert(drive_prev | asc_lo_prev | asc_hi_prev | ~on,
                    "a switch on one clock after drive went low outside an ASC"),
             Assert(~rst_prev | ~on, "a switch on one clock after reset"),
-            Assert(~(self.upper & ~on_prev) | Mux(asc_lo_prev | asc_hi_prev, asc_hi_prev,
-                                                  cmd_prev), "upper turned on while not commanded"),
-            Assert(~(self.lower & ~on_prev) | Mux(asc_lo_prev | asc_hi_prev, asc_lo_prev,
-                                                  ~cmd_prev), "lower turned on while not commanded"),
+            Assert(~(self.upper & ~on_prev) | Mux(asc_prev, asc_hi_prev, cmd_prev),
+                   "upper turned on while not commanded"),
+            Assert(~(self.lower & ~on_prev) | Mux(asc_prev, asc_lo_prev, ~cmd_prev),
+                   "lower turned on while not commanded"),
             Assert(~asc_lo_prev | rst_prev | ~self.upper, "an upper switch on in an ASC low"),
             Assert(~asc_hi_prev | rst_prev | ~self.lower, "a lower switch on in an ASC high"),
             Assert(~(asc_lo_prev & lo_prev) | rst_prev | self.lower,
@@ -489,7 +491,8 @@ class GateDriver(wiring.Component):
                    "the rising source's"),
             Assert((r_prev == 0) | (r == 0) | (r == r_prev) | rst_prev,
                    "an ASC changed to the other one"),
-            Assert(~((r_prev != 0) & (r == 0)) | gates_off, "an ASC left other than through all off"),
+            Assert(~((r_prev != 0) & (r == 0)) | gates_off,
+                   "an ASC left other than through all off"),
             Assert(~(ghost["all_off"] & ghost["stopped"]) | rst_prev | ((r == 0) & gates_off),
                    "a switch on a clock after ALL_OFF while a latch was set"),
         ]
