@@ -10,7 +10,7 @@ import pytest
 from amaranth import ClockDomain, Module
 from amaranth.sim import Simulator
 
-from formal import NoDeadTimeLeg
+from formal import AscWithoutDeadTimeLeg, NoDeadTimeLeg
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.driver import GateDriver, LegDriver
 from mdfqm_model.driver import DRIVER_INPUTS, DRIVER_OUTPUTS, GateDriverModel, check_gate_safety
@@ -413,6 +413,14 @@ def test_formal_properties_catch_a_missing_dead_time(monkeypatch):
     import mdfqm_gateware.driver as driver
 
     monkeypatch.setattr(driver, "LegDriver", NoDeadTimeLeg)
+    with pytest.raises(AssertionError, match=r"turn-on before the dead"):
+        simulate_properties(GateDriver(3, 2, 6, formal=True), 3, 2, 6, 1, 2500, compare=False)
+
+
+def test_formal_properties_catch_an_asc_without_dead_time(monkeypatch):
+    import mdfqm_gateware.driver as driver
+
+    monkeypatch.setattr(driver, "LegDriver", AscWithoutDeadTimeLeg)
     with pytest.raises(AssertionError, match=r"turn-on before the dead"):
         simulate_properties(GateDriver(3, 2, 6, formal=True), 3, 2, 6, 1, 2500, compare=False)
 

@@ -15,7 +15,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
 import mdfqm_gateware.top as top_module
-from formal import NoDeadTimeLeg, assertion_site, run_sby
+from formal import AscWithoutDeadTimeLeg, NoDeadTimeLeg, assertion_site, run_sby
 from mdfqm_gateware import driver, fronts, integrator
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_gateware.driver import GateDriver, LegDriver
@@ -241,6 +241,18 @@ def test_sby_finds_an_ungated_fault():
     with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut: \S*{site} "):
         run_sby(GateDriver(3, 2, 6, formal=True), "driver_ungated_fault", 12, tasks=("bmc",),
                 keep_failed=False, mutation=("cd dut", "connect -set fault_active 1'0", "cd"))
+
+
+def test_sby_finds_an_asc_without_dead_time(monkeypatch):
+    """A driver whose legs turn the ASC switch on at once, not after the dead time: the
+    turn-on property has a counterexample (a fault with an ASC reaction while the other switch
+    is on)."""
+    monkeypatch.setattr(driver, "LegDriver", AscWithoutDeadTimeLeg)
+    site = assertion_site(driver.__file__, "turn-on before the dead time in force elapsed")
+    with pytest.raises(AssertionError, match=rf"(?s)BMC failed!.*Assert failed in dut\.leg\d: "
+                                             rf"\S*{site} "):
+        run_sby(GateDriver(3, 2, 6, formal=True), "driver_asc_no_dead_time", 10, tasks=("bmc",),
+                keep_failed=False)
 
 
 class LowerPinActiveHighDriver(GateDriver):
