@@ -5,7 +5,8 @@ header generated from the SystemRDL map (the only register facts it has), then l
 Verilator harness (sw/sim/harness.cpp) around the drop-in file ``mdfqm_top_n3_w16.v`` with a
 Wishbone shim. The harness plays firmware: init, timing, zero policy, interrupts (sampling tick:
 the next reference; fault: clear it once the input is gone), a fault pulse with an active short
-circuit low as the fault reaction, CMD.ALL_OFF before the clear, the counters read and cleared. It logs every clock's inputs and outputs; here a fresh golden model steps through
+circuit low as the fault reaction, CMD.ALL_OFF before the clear, the counters read and
+cleared. It logs every clock's inputs and outputs; here a fresh golden model steps through
 the same inputs and every output of every clock must match, and the driver's own results (INFO
 decoded, causes handled, fault cleared, counters) are checked against the model's view.
 """
