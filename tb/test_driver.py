@@ -454,6 +454,7 @@ def test_driver_rejects_bad_parameters(args, kwargs, message):
     ({"dead_min": 0}, "dead_min must be an integer in [1, 65535] (clocks), not 0"),
     ({"dead_min": 2.0}, "dead_min must be an integer in [1, 65535] (clocks), not 2.0"),
     ({"dead_min": 1, "formal": "no"}, "formal must be a bool, not 'no'"),
+    ({"dead_min": 1, "asc": 0}, "asc must be a bool, not 0"),
 ])
 def test_leg_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:

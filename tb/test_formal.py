@@ -38,21 +38,25 @@ from mdfqm_spec.regmap import ADDR_WIDTH, COUNTER_WIDTH, IRQ_MASK
     ("leg_dmin3_tw4", lambda: LegDriver(3, 4, formal=True), 24, ("prove", "cover")),
     ("gate_driver_n3_dmin5_tw16", lambda: GateDriver(3, 5, 16, True, False, formal=True), 20,
      ("prove", "cover")),
-    # the other three pin polarity pairs (the properties at the pins read them back)
-    ("gate_driver_n3_high_high", lambda: GateDriver(3, 2, 6, False, False, formal=True), 12,
-     ("prove",)),
-    ("gate_driver_n3_high_low", lambda: GateDriver(3, 2, 6, False, True, formal=True), 12,
-     ("prove",)),
-    ("gate_driver_n3_low_low", lambda: GateDriver(3, 2, 6, True, True, formal=True), 12,
-     ("prove",)),
+    # the other three pin polarity pairs (the properties at the pins read them back), all off
+    # only: the fault reaction is the same logic before the polarity, proved in the run above
+    # (and in the tops'), and it triples these runs' time
+    ("gate_driver_n3_high_high",
+     lambda: GateDriver(3, 2, 6, False, False, asc=False, formal=True), 12, ("prove",)),
+    ("gate_driver_n3_high_low",
+     lambda: GateDriver(3, 2, 6, False, True, asc=False, formal=True), 12, ("prove",)),
+    ("gate_driver_n3_low_low",
+     lambda: GateDriver(3, 2, 6, True, True, asc=False, formal=True), 12, ("prove",)),
 ])
 def test_sby_proves_the_driver_properties(name, factory, depth, tasks):
     run_sby(factory(), name, depth, tasks)
 
 
 def test_sby_proves_the_five_leg_gate_driver():
-    """The driver's safety properties (both-on, dead time, fault, reset) for five legs."""
-    run_sby(GateDriver(5, 5, 16, True, False, formal=True), "gate_driver_n5", 20,
+    """The driver's safety properties (both-on, dead time, fault, reset) for five legs, all
+    off only (the fault reaction's logic is per leg and proved at three legs above and in the
+    five-phase tops; with it this run takes twice as long)."""
+    run_sby(GateDriver(5, 5, 16, True, False, asc=False, formal=True), "gate_driver_n5", 20,
             ("prove", "cover"))
 
 

@@ -281,11 +281,12 @@ class GateDriverModel:
     def reaction_now(self, fault_active: int, stop: int, reaction_fault: int,
                      reaction_watchdog: int, all_off: int) -> int:
         """The reaction of this cycle (module docstring, "The fault reaction")."""
+        if not (fault_active or stop):
+            return 0
         f, w = self.reaction_code(reaction_fault), self.reaction_code(reaction_watchdog)
         rise_f = fault_active and not self.fault_prev
         rise_w = stop and not self.stop_prev
-        if (not (fault_active or stop) or all_off or (rise_f and f == 0)
-                or (rise_w and w == 0)):
+        if all_off or (rise_f and f == 0) or (rise_w and w == 0):
             return 0
         if not (self.fault_prev or self.stop_prev):
             return f if rise_f else w

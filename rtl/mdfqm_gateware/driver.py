@@ -22,7 +22,7 @@ is unchanged):
 Polarity inversion is applied last, to registered signals.
 """
 
-from amaranth import Cat, Module, Mux, ResetSignal, Signal
+from amaranth import C, Cat, Module, Mux, ResetSignal, Signal
 from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
@@ -76,13 +76,18 @@ class LegDriver(wiring.Component):
         Dead-time floor in clocks, fixed at elaboration.
     time_width : int in [2, 32]
         Width of ``dead``, ``min_pulse`` and the leg counter.
+    asc : bool
+        Build the active short circuit in; False: ``asc_lo`` and ``asc_hi`` are ignored (the
+        leg of a driver without it: the logic and the proofs as without the ports).
     formal : bool
         Emit the ``Assert``/``Cover`` statements of the safety properties.
     """
 
-    def __init__(self, dead_min: int, time_width: int = TIME_WIDTH, formal: bool = False):
+    def __init__(self, dead_min: int, time_width: int = TIME_WIDTH, asc: bool = True,
+                 formal: bool = False):
         self.time_width = validate_time_width(time_width)
         self.dead_min = validate_dead_min(dead_min, time_width)
+        self.asc = validate_bool(asc, "asc")
         self.formal = validate_bool(formal, "formal")
         super().__init__({
             "cmd": In(1),
@@ -126,12 +131,13 @@ class LegDriver(wiring.Component):
         # time has elapsed
         keep = (self.upper & self.cmd) | (self.lower & ~self.cmd) | pulse_short
         # an active short circuit: only its switch is kept, or turned on after the dead time
-        asc = self.asc_lo | self.asc_hi
-        asc_keep = (self.upper & self.asc_hi) | (self.lower & self.asc_lo)
+        asc_lo, asc_hi = (self.asc_lo, self.asc_hi) if self.asc else (C(0, 1), C(0, 1))
+        asc = asc_lo | asc_hi
+        asc_keep = (self.upper & asc_hi) | (self.lower & asc_lo)
         m.d.comb += [
-            nxt_up.eq(Mux(asc, self.asc_hi & Mux(on, self.upper, dead_elapsed),
+            nxt_up.eq(Mux(asc, asc_hi & Mux(on, self.upper, dead_elapsed),
                           self.drive & Mux(on, self.upper & keep, dead_elapsed & self.cmd))),
-            nxt_lo.eq(Mux(asc, self.asc_lo & Mux(on, self.lower, dead_elapsed),
+            nxt_lo.eq(Mux(asc, asc_lo & Mux(on, self.lower, dead_elapsed),
                           self.drive & Mux(on, self.lower & keep, dead_elapsed & ~self.cmd))),
         ]
         # the next clock starts a new state (count 1): the on/off state changes
@@ -161,7 +167,7 @@ class LegDriver(wiring.Component):
             m.d.sync += dt_run.eq(dt)
 
         if self.formal:
-            self._properties(m, on, dt, (count - 1)[:tw], dt_run)
+            self._properties(m, on, dt, (count - 1)[:tw], dt_run, (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
             # soon as any of its inputs changes, before a comb signal has followed
             self._invariants(m, dt_expr, count, count_next, dt_run, dead_elapsed, pulse_short,
@@ -183,7 +189,7 @@ class LegDriver(wiring.Component):
                    "invariant: pulse_short is the minimum-pulse compare"),
         ]
 
-    def _properties(self, m, on, dt, cnt, dt_run):
+    def _properties(self, m, on, dt, cnt, dt_run, asc):
         """Safety properties, on ghost registers independent of the leg's own counter; the
         last two asserts are inductive invariants (they make k-induction converge at any
         ``time_width``)."""
@@ -210,13 +216,14 @@ class LegDriver(wiring.Component):
             drive_prev.eq(self.drive),
             cmd_prev.eq(self.cmd),
             rst_prev.eq(ResetSignal()),
-            asc_lo_prev.eq(self.asc_lo),
-            asc_hi_prev.eq(self.asc_hi),
+            asc_lo_prev.eq(asc[0]),
+            asc_hi_prev.eq(asc[1]),
             up_prev.eq(self.upper),
             lo_prev.eq(self.lower),
             due_prev.eq(~on & (cnt + 1 >= dt) & (cnt + 1 >= dt_run)),
         ]
-        m.d.comb += Assume(~(self.asc_lo & self.asc_hi))
+        if self.asc:        # the driver never gives both
+            m.d.comb += Assume(~(self.asc_lo & self.asc_hi))
         asc_prev = asc_lo_prev | asc_hi_prev
         with m.If(on):
             m.d.sync += need.eq(dt)
@@ -249,9 +256,10 @@ class LegDriver(wiring.Component):
             Cover(turn_on & (gap > self.dead_min)),
             Cover(self.upper & ~on_prev),
             Cover(self.lower & ~on_prev),
-            Cover(self.lower & ~on_prev & asc_lo_prev),
-            Cover(self.upper & ~on_prev & asc_hi_prev),
         ]
+        if self.asc:
+            m.d.comb += [Cover(self.lower & ~on_prev & asc_lo_prev),
+                         Cover(self.upper & ~on_prev & asc_hi_prev)]
 
 
 class GateDriver(wiring.Component):
@@ -397,7 +405,7 @@ class GateDriver(wiring.Component):
 
         legs = []
         for i in range(n):
-            leg = LegDriver(self.dead_min, self.time_width, formal=self.formal)
+            leg = LegDriver(self.dead_min, self.time_width, asc=self.asc, formal=self.formal)
             m.submodules[f"leg{i}"] = leg
             legs.append(leg)
             m.d.comb += [
@@ -431,9 +439,9 @@ class GateDriver(wiring.Component):
             self._reaction_properties(m, up, lo, fault_active)
         return m
 
-    def _code(self, value):
+    def _code(self, reaction):
         """A source's reaction input as acted on: 1 and 2 as they are, 0 and 3 all off."""
-        return Mux((value == 1) | (value == 2), value, 0)
+        return Mux((reaction == 1) | (reaction == 2), reaction, 0)
 
     def _reaction(self, m, fault_active):
         """The reaction of this clock (``now``), registered into ``reaction``."""

@@ -52,11 +52,6 @@ def _only_asc(driver):
     return ((driver.up & Mux(r == 2, 0, ones)) == 0) & ((driver.lo & Mux(r == 1, 0, ones)) == 0)
 
 
-def _reaction_code(field):
-    """A two-bit FAULT_REACTION field as stored: 3 stores 0 (``v % 3``)."""
-    return Mux(field == 3, 0, field)
-
-
 def _saturate_code(value, contract):
     """A bus word (two's complement) clamped to the contract's reference codes, the full
     ``width``-bit signed range: in range exactly when the bits from ``width - 1`` up are all
@@ -268,10 +263,10 @@ class MdfqmTop(wiring.Component):
         with m.If(written(regmap.MODULATION)):
             m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
-        if self.asc:        # else both read 0: every reaction is all off
+        if self.asc:        # else both read 0: every reaction is all off; 3 stores 0 (v % 3)
             with m.If(written(regmap.FAULT_REACTION)):
-                m.d.sync += [reaction_fault.eq(_reaction_code(word[0:2])),
-                             reaction_watchdog.eq(_reaction_code(word[2:4]))]
+                m.d.sync += [reaction_fault.eq(Mux(word[0:2] == 3, 0, word[0:2])),
+                             reaction_watchdog.eq(Mux(word[2:4] == 3, 0, word[2:4]))]
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
                 m.d.sync += ref_regs[i].eq(_saturate_code(word, c))
