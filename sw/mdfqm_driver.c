@@ -50,6 +50,7 @@ int mdfqm_init(mdfqm_t *dev, mdfqm_bus_t bus)
     dev->lower_active_low = FIELD(info, INFO, LOWER_ACTIVE_LOW) != 0u;
     dev->max_bits = FIELD(info, INFO, MAX_BITS);
     dev->modes = FIELD(info, INFO, MODES);
+    dev->asc = FIELD(info, INFO, ASC) != 0u;
     dev->dead_min = FIELD(rd(dev, MDFQM_TOP__DEAD_MIN_OFFSET), DEAD_MIN, DEAD_MIN);
     return 0;
 }
@@ -157,6 +158,39 @@ void mdfqm_clear_watchdog(const mdfqm_t *dev)
 uint32_t mdfqm_watchdog_trips(const mdfqm_t *dev)
 {
     return rd(dev, MDFQM_TOP__WATCHDOG_TRIPS_OFFSET);
+}
+
+void mdfqm_set_fault_reaction(const mdfqm_t *dev, mdfqm_source_t source,
+                              mdfqm_reaction_t reaction)
+{
+    uint32_t word = rd(dev, MDFQM_TOP__FAULT_REACTION_OFFSET);
+    uint32_t code = (uint32_t)reaction;
+    if (source == MDFQM_SOURCE_WATCHDOG)
+        word = (word & ~(uint32_t)MDFQM_TOP__FAULT_REACTION__WATCHDOG_bm)
+               | ((code << MDFQM_TOP__FAULT_REACTION__WATCHDOG_bp)
+                  & MDFQM_TOP__FAULT_REACTION__WATCHDOG_bm);
+    else
+        word = (word & ~(uint32_t)MDFQM_TOP__FAULT_REACTION__FAULT_bm)
+               | ((code << MDFQM_TOP__FAULT_REACTION__FAULT_bp)
+                  & MDFQM_TOP__FAULT_REACTION__FAULT_bm);
+    wr(dev, MDFQM_TOP__FAULT_REACTION_OFFSET, word);
+}
+
+void mdfqm_fault_all_off(const mdfqm_t *dev)
+{
+    wr(dev, MDFQM_TOP__CMD_OFFSET, MDFQM_TOP__CMD__ALL_OFF_bm);
+}
+
+mdfqm_reaction_t mdfqm_reaction_in_force(const mdfqm_t *dev)
+{
+    switch (FIELD(mdfqm_status(dev), STATUS, REACTION)) {
+    case 1u:
+        return MDFQM_REACTION_ASC_LOW;
+    case 2u:
+        return MDFQM_REACTION_ASC_HIGH;
+    default:
+        return MDFQM_REACTION_ALL_OFF;
+    }
 }
 
 void mdfqm_irq_enable(const mdfqm_t *dev, uint32_t sources)

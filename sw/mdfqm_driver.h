@@ -36,18 +36,29 @@ typedef struct {
     bool lower_active_low;
     unsigned max_bits;       /* largest b of the slot modes; 0: the MDFQM-only top */
     unsigned modes;          /* modulation modes built in: MODULATION.MODE codes 0..modes-1 */
+    bool asc;                /* the active short circuit built in (INFO.ASC) */
 } mdfqm_t;
 
 /* What the interrupt handler found (and acknowledged). */
 typedef struct {
-    bool fault;              /* the fault latch set: gates are off until mdfqm_clear_fault */
+    bool fault;              /* the fault latch set: the fault reaction until mdfqm_clear_fault */
     bool counter_wrap;       /* EVENTS_TOTAL wrapped */
     bool sample;             /* a sampling tick: write the next reference now */
     bool short_edge;         /* a pulse shorter than dead time + minimum pulse was swallowed or
                                 stretched (a slot or an update too short for the settings) */
-    bool watchdog;           /* the reference watchdog tripped: gates are off until
+    bool watchdog;           /* the reference watchdog tripped: the fault reaction until
                                 mdfqm_clear_watchdog */
 } mdfqm_irq_causes_t;
+
+/* The sources of a fault reaction and the reactions (FAULT_REACTION's fields and codes;
+ * docs/top.md, "Fault reaction"). */
+typedef enum { MDFQM_SOURCE_FAULT = 0, MDFQM_SOURCE_WATCHDOG = 1 } mdfqm_source_t;
+typedef enum {
+    MDFQM_REACTION_ALL_OFF = 0,     /* every switch off (the reset value) */
+    MDFQM_REACTION_ASC_LOW = 1,     /* active short circuit: the lower switches on */
+    MDFQM_REACTION_ASC_HIGH = 2     /* active short circuit: the upper switches on (needs the
+                                       upper gate supplies to stay up) */
+} mdfqm_reaction_t;
 
 /* MODULATION.MODE codes (docs/top.md, "Modulation mode and resolution"). */
 enum { MDFQM_MODE_MDFQM = 0, MDFQM_MODE_SVPWM = 1, MDFQM_MODE_DPWM0 = 2, MDFQM_MODE_DPWM1 = 3,
@@ -90,13 +101,25 @@ bool mdfqm_clear_fault(const mdfqm_t *dev);
 
 /* The reference watchdog (docs/top.md, "Reference watchdog"): 0 turns it off (the reset value);
  * otherwise the update starts allowed without a new reference (a beat on the ref port or a
- * mdfqm_write_reference), saturated at 65535. The next start without one turns every gate off
- * until mdfqm_clear_watchdog. */
+ * mdfqm_write_reference), saturated at 65535. The next start without one starts the watchdog's
+ * fault reaction (every gate off by default) until mdfqm_clear_watchdog. */
 void mdfqm_set_watchdog(const mdfqm_t *dev, uint32_t updates);
 /* Clears the watchdog latch (gates resume at the next update boundary with the enable). */
 void mdfqm_clear_watchdog(const mdfqm_t *dev);
 /* Trips since reset or mdfqm_clear_counters (saturating at 65535). */
 uint32_t mdfqm_watchdog_trips(const mdfqm_t *dev);
+
+/* The reaction to one source's latch (read-modify-write of FAULT_REACTION, the other source's
+ * reaction kept). Used the next time the gates leave normal operation: never changes a
+ * reaction in force. Without the ASC built in (dev->asc false) every reaction is all off. */
+void mdfqm_set_fault_reaction(const mdfqm_t *dev, mdfqm_source_t source,
+                              mdfqm_reaction_t reaction);
+/* CMD.ALL_OFF: an active short circuit in force ends, every switch off from the next clock
+ * (the latches stay set: clear them as usual). Firmware's step from ASC to all off once the
+ * speed is below the back-EMF threshold. */
+void mdfqm_fault_all_off(const mdfqm_t *dev);
+/* STATUS.REACTION: the reaction in force (all off also when no latch is set). */
+mdfqm_reaction_t mdfqm_reaction_in_force(const mdfqm_t *dev);
 
 /* IRQ_ENABLE sources (MDFQM_TOP__IRQ_ENABLE__*_bm). */
 void mdfqm_irq_enable(const mdfqm_t *dev, uint32_t sources);

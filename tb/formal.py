@@ -67,3 +67,16 @@ class NoDeadTimeLeg(LegDriver):
         m = super().elaborate(platform)
         m.d.sync += [self.upper.eq(self.drive & self.cmd), self.lower.eq(self.drive & ~self.cmd)]
         return m
+
+
+class AscWithoutDeadTimeLeg(LegDriver):
+    """A broken leg whose active short circuit turns its switch on at once, without waiting
+    for the dead time: the turn-on property must fire."""
+
+    def elaborate(self, platform):
+        m = super().elaborate(platform)
+        with m.If(self.asc_lo):
+            m.d.sync += [self.upper.eq(0), self.lower.eq(1)]
+        with m.If(self.asc_hi):
+            m.d.sync += [self.upper.eq(1), self.lower.eq(0)]
+        return m

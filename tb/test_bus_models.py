@@ -90,11 +90,12 @@ def documented_reset(reg, parameters):
 
 
 def read_back(reg, word, parameters):
-    """What a read returns after ``word`` was written to read-write register ``reg``."""
-    value = word
-    if reg.clamp:
-        value = clamp_value(reg.clamp, word, parameters)
-    value &= field_mask(reg)
+    """What a read returns after ``word`` was written to read-write register ``reg``: each
+    field's clamp of the word (the written bits where a field has none)."""
+    value = 0
+    for f in reg.fields:
+        stored = clamp_value(f.clamp, word, parameters, f.lsb) if f.clamp else word >> f.lsb
+        value |= (stored & ((1 << f.width) - 1)) << f.lsb
     if reg.name == "REF" and value >> (parameters["width"] - 1):
         value |= 0xFFFFFFFF ^ ((1 << parameters["width"]) - 1)   # reads sign-extended
     return value
@@ -110,6 +111,8 @@ def interesting_words(rng, reg, parameters):
     if reg.name == "DEAD":
         d = parameters["dead_min"]
         words |= {d - 1, d, d + 1}
+    if reg.name == "FAULT_REACTION":
+        words |= set(range(16))         # every code of both fields
     words |= {rng.getrandbits(32) for _ in range(3)}
     return sorted(words)
 

@@ -4,8 +4,9 @@ The driver is compiled alone with ``gcc -std=c99 -Wall -Wextra -Werror -pedantic
 header generated from the SystemRDL map (the only register facts it has), then linked into a
 Verilator harness (sw/sim/harness.cpp) around the drop-in file ``mdfqm_top_n3_w16.v`` with a
 Wishbone shim. The harness plays firmware: init, timing, zero policy, interrupts (sampling tick:
-the next reference; fault: clear it once the input is gone), a fault pulse, the counters read
-and cleared. It logs every clock's inputs and outputs; here a fresh golden model steps through
+the next reference; fault: clear it once the input is gone), a fault pulse with an active short
+circuit low as the fault reaction, CMD.ALL_OFF before the clear, the counters read and
+cleared. It logs every clock's inputs and outputs; here a fresh golden model steps through
 the same inputs and every output of every clock must match, and the driver's own results (INFO
 decoded, causes handled, fault cleared, counters) are checked against the model's view.
 """
@@ -97,10 +98,16 @@ def test_every_clock_equals_the_model(run_log):
     # what the harness asked the driver to set is what the registers hold (a driver writing the
     # wrong offset or field would pass the clock-by-clock comparison, not this)
     settings = (model.period, model.osr, model.dead, model.min_pulse, model.adc_offset,
-                model.ctrl, model.irq_enable, model.wd_timeout)
+                model.ctrl, model.irq_enable, model.wd_timeout, model.fault_reaction)
     assert settings == (60, 2, 70, 3, 5, regs.CTRL_ENABLE | regs.CTRL_ZERO_POLICY,
                         regs.IRQ_ENABLE_FAULT | regs.IRQ_ENABLE_SAMPLE | regs.IRQ_ENABLE_WATCHDOG,
-                        6)
+                        6, 1 << regs.FAULT_REACTION_FAULT_SHIFT)
+
+
+def upper_of(clocks):
+    """The ``upper`` column of the harness's clock lines ("C", the cycle, then the 11 inputs
+    and ``wb_dat_r``, ``wb_ack``, ``ref_ready`` before it)."""
+    return [int(c[16], 16) for c in clocks]
 
 
 def test_the_driver_did_its_job(run_log):
@@ -112,8 +119,8 @@ def test_the_driver_did_its_job(run_log):
     for line in run_log:
         tag, *rest = line.split()
         tagged.setdefault(tag, []).append(rest)
-    ok, phases, width, latency, dead_min, max_bits, modes = map(int, tagged["INIT"][0])
-    assert (ok, phases, width, dead_min) == (0, p["phases"], p["width"], p["dead_min"])
+    ok, phases, width, latency, dead_min, max_bits, modes, asc = map(int, tagged["INIT"][0])
+    assert (ok, phases, width, dead_min, asc) == (0, p["phases"], p["width"], p["dead_min"], 1)
     model = make_model(p)
     assert (latency, max_bits, modes) == (model.latency, model.max_bits, 5) and max_bits >= 3
     assert tagged["MODULATION"][0] == ["1", "3"], "SVPWM at b = 3 not in force"
@@ -126,10 +133,17 @@ def test_the_driver_did_its_job(run_log):
     assert "WATCHDOG_CLEAR" in tagged and trips_after_clear == 0
     assert sum(c[0] for c in causes) == faults == 1, "the fault interrupt not seen once"
     assert tagged["CLEAR"][-1] == ["1"], "the fault was never cleared"
+    # the fault's reaction: ASC low in force, then all off by CMD.ALL_OFF (the latch still set)
+    assert tagged["ASC"] == [["1", "0"]], "ASC low not in force, or not ended by ALL_OFF"
     clocks = [line.split() for line in run_log if line.startswith("C ")]
-    fault = [int(c[19], 16) for c in clocks]
+    fault = [int(c[20], 16) for c in clocks]
     assert 1 in fault and fault[-1] == 0
-    upper = [int(c[15], 16) for c in clocks]
+    lower = [int(c[17], 16) for c in clocks]
+    asc = [t for t, (f, u, lo) in enumerate(zip(fault, upper_of(clocks), lower, strict=True))
+           if f and lo == 7 and u == 0]
+    assert len(asc) > 100, "the lower switches not all on during the fault (ASC low)"
+    assert not lower[asc[-1] + 1] and fault[asc[-1] + 1], "ASC low not ended before the clear"
+    upper = upper_of(clocks)
     turn_ons = sum(bin(a & ~b).count("1") for a, b in zip(upper[1:], upper, strict=False))
     *legs, total = (int(v, 16) for v in tagged["COUNTS"][0])
     assert len(legs) == phases and total == sum(legs) and turn_ons > 100 and total > 100

@@ -10,14 +10,28 @@ import pytest
 from amaranth import ClockDomain, Module
 from amaranth.sim import Simulator
 
-from formal import NoDeadTimeLeg
+from formal import AscWithoutDeadTimeLeg, NoDeadTimeLeg
 from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.driver import GateDriver, LegDriver
 from mdfqm_model.driver import DRIVER_INPUTS, DRIVER_OUTPUTS, GateDriverModel, check_gate_safety
 
-# (phases, dead_min, time_width, upper_active_low, lower_active_low)
-CASES = [(3, 1, 16, False, False), (5, 4, 16, True, False), (6, 2, 6, True, True),
-         (3, 3, 16, False, True)]           # every pair of pin polarities
+# (phases, dead_min, time_width, upper_active_low, lower_active_low, asc)
+CASES = [(3, 1, 16, False, False, True), (5, 4, 16, True, False, True),
+         (6, 2, 6, True, True, True),
+         (3, 3, 16, False, True, False)]    # every pair of pin polarities; all off only
+
+#: what the fault-reaction scenario must reach (the ASC ones only with the ASC built in):
+#: each source's first rise with each reaction; an ASC entered while a leg had its ASC switch
+#: on, the other switch on, the other switch inside its minimum pulse, both off inside a dead
+#: time; an ASC ended by ALL_OFF, by the clears, by a later source with all off, by a reset; a
+#: later source's ASC and a new reaction input ignored while one is in force; code 3 all off
+REACTION_BINS = {
+    *(("first", source, code) for source in ("fault", "watchdog", "both") for code in (0, 1, 2)),
+    *(("entry", state) for state in ("asc_on", "other_on", "other_in_min_pulse", "dead_time")),
+    "all_off_ends_asc", "clear_ends_asc", "second_source_ends_asc", "reset_ends_asc",
+    "second_asc_ignored", "new_input_ignored", "code_3_all_off"}
+#: without the ASC built in: every source's rise, and an ASC code given that acts as all off
+REACTION_BINS_ALL_OFF = {("first", "fault", 0), ("first", "watchdog", 0), "asc_code_all_off"}
 
 INPUTS = DRIVER_INPUTS
 
@@ -62,7 +76,8 @@ def carried_model(p):
     test's last inputs, or zeros, during them)."""
     if CARRY["model"] is None:
         CARRY["model"] = GateDriverModel(p["phases"], p["dead_min"], p["time_width"],
-                                         p["upper_active_low"], p["lower_active_low"])
+                                         p["upper_active_low"], p["lower_active_low"],
+                                         p["asc"])
         CARRY["last"] = {name: 0 for name in INPUTS}
     model = CARRY["model"]
     for _ in range(2):
@@ -70,17 +85,140 @@ def carried_model(p):
     return model
 
 
-def generate(rng, scenario, p, cycles):
+def reaction_bins(model, inputs, before, hit):
+    """Add to ``hit`` the fault-reaction bins (:data:`REACTION_BINS`) of one clock:
+    ``before`` is the model's state before the clock's step (:func:`reaction_state`)."""
+    r_prev, f_prev, w_prev, fault_active, legs = before
+    r = model.reaction
+    stop, fa = inputs["stop"], fault_active
+    rise_f, rise_w = fa and not f_prev, stop and not w_prev
+    code_f, code_w = inputs["reaction_fault"], inputs["reaction_watchdog"]
+    if inputs["rst"]:
+        if r_prev:
+            hit.add("reset_ends_asc")
+        return
+    if (rise_f or rise_w) and not (f_prev or w_prev) and not inputs["all_off"]:
+        source = "both" if rise_f and rise_w else "fault" if rise_f else "watchdog"
+        hit.add(("first", source, r))
+        code = code_f if rise_f else code_w
+        if code == 3 and r == 0:
+            hit.add("code_3_all_off")
+        if code in (1, 2) and not model.asc:
+            hit.add("asc_code_all_off")
+    if r and not r_prev:
+        for up, lo, on_for, min_pulse, dt_req in legs:
+            asc_on = lo if r == 1 else up
+            other_on = up if r == 1 else lo
+            if asc_on:
+                hit.add(("entry", "asc_on"))
+            elif other_on:
+                hit.add(("entry", "other_in_min_pulse" if on_for < min_pulse else "other_on"))
+            elif on_for < dt_req:
+                hit.add(("entry", "dead_time"))
+    if r_prev and not r:
+        if inputs["all_off"]:
+            hit.add("all_off_ends_asc")
+        elif not (fa or stop):
+            hit.add("clear_ends_asc")
+        elif (rise_f and code_f in (0, 3)) or (rise_w and code_w in (0, 3)):
+            hit.add("second_source_ends_asc")
+    if r_prev and r == r_prev:
+        if (rise_f and code_f in (1, 2) and code_f != r) or \
+                (rise_w and code_w in (1, 2) and code_w != r):
+            hit.add("second_asc_ignored")
+        elif (code_f in (1, 2) and code_f != r) or (code_w in (1, 2) and code_w != r):
+            hit.add("new_input_ignored")
+
+
+def reaction_state(model, inputs):
+    """The model's state that :func:`reaction_bins` compares (before a step): the reaction in
+    force, the sources of the clock before, this clock's fault, and per leg (up, lo, clocks in
+    the present state + 1, the minimum pulse and dead time in force)."""
+    legs = [(leg.up, leg.lo, leg.cnt + 1, model.min_pulse_seen,
+             max(leg.dt_run, leg.dead_clamped(model.dead_seen))) for leg in model.legs]
+    return (model.reaction, model.fault_prev, model.stop_prev,
+            int(bool(model.fault_input or model.fault)), legs)
+
+
+class ReactionEpisodes:
+    """The fault-reaction scenario: every 160 clocks an episode, a fault, a watchdog stop or
+    both (in one clock or one after the other) with random reactions (codes 0-3; the first
+    fifteen episodes walk every source and reaction, code 3, a reset in an ASC and a second
+    source after the first), at a random clock of short updates (so that legs are on, inside
+    their minimum pulse or inside a dead time), maybe a new reaction input, ALL_OFF or a
+    reset during it, then the clears."""
+
+    LENGTH = 160
+
+    def __init__(self, rng, s):
+        self.rng, self.s = rng, s
+        self.plan = {}
+        # first every source with every reaction once, two with a reset in an ASC; then random
+        self.schedule = [(kind, (code, code or 1) if kind == "both" else (code, code), False)
+                         for kind in ("fault", "watchdog", "both") for code in (0, 1, 2)]
+        self.schedule += [("fault", (1, 0), True), ("watchdog", (0, 2), True),
+                          ("fault_then_watchdog", (1, 2), False),
+                          ("watchdog_then_fault", (1, 2), False),
+                          ("fault_then_watchdog", (2, 0), False), ("fault", (3, 0), False)]
+        rng.shuffle(self.schedule)
+
+    def new_plan(self):
+        rng, s = self.rng, self.s
+        s.period = rng.choice([3, 5, 7, 11, 16])
+        s.dead = rng.choice([self.s.p["dead_min"], 3, 5, 8])
+        s.min_pulse = rng.choice([0, 0, 4, 9])
+        start = rng.randrange(10, 40)
+        kind = rng.choice(["fault", "watchdog", "both", "fault_then_watchdog",
+                           "watchdog_then_fault"])
+        codes = (rng.choice([0, 1, 1, 2, 2, 3]), rng.choice([0, 1, 1, 2, 2, 3]))
+        reset = rng.random() < 0.08
+        all_off, new_codes = rng.random() < 0.4, rng.random() < 0.3
+        if self.schedule:
+            kind, codes, reset = self.schedule.pop()
+            all_off = new_codes = False
+        second = start + rng.randrange(5, 30)
+        self.plan = {
+            "fault": (start - 2 if kind in ("fault", "both", "fault_then_watchdog")
+                      else second - 2 if kind == "watchdog_then_fault" else None),
+            "watchdog": (start if kind in ("watchdog", "both", "watchdog_then_fault")
+                         else second if kind == "fault_then_watchdog" else None),
+            "codes": codes,
+            "new_codes": new_codes and (rng.randrange(4), rng.randrange(4)),
+            "new_at": start + rng.randrange(3, 40),
+            "all_off": start + rng.randrange(3, 80) if all_off else None,
+            "reset": start + rng.randrange(8, 50) if reset else None,
+            "release": start + rng.randrange(60, 100),
+        }
+
+    def inputs(self, cycle):
+        """(fault_in, clear, stop, rst, all_off, (reaction_fault, reaction_watchdog))."""
+        k = cycle % self.LENGTH
+        if k == 0:
+            self.new_plan()
+        plan = self.plan
+        codes = plan["codes"]
+        if plan["new_codes"] and k >= plan["new_at"]:
+            codes = plan["new_codes"]
+        fault_in = int(plan["fault"] is not None and plan["fault"] <= k < plan["release"])
+        stop = int(plan["watchdog"] is not None and plan["watchdog"] <= k < plan["release"] + 3)
+        clear = int(k in (plan["release"] + 3, plan["release"] + 10))
+        return (fault_in, clear, stop, int(k == plan["reset"]), int(k == plan["all_off"]),
+                codes)
+
+
+def generate(rng, scenario, p, cycles, hit=None):
     n, dead_min = p["phases"], p["dead_min"]
     model = carried_model(p)
     dt_run0 = [leg.dt_run for leg in model.legs]
     s = Stimulus(rng, p)
+    episodes = ReactionEpisodes(rng, s)
+    codes = (0, 0)
     stim = {name: [] for name in INPUTS}
     expected = {name: [] for name in DRIVER_OUTPUTS}
     up, lo, in_force = [], [], []
     chatter = stopped = 0
     for cycle in range(cycles):
-        rst = fault_in = clear = 0
+        rst = fault_in = clear = all_off = 0
         if scenario == "random":
             if rng.random() < 0.002:
                 s.period = rng.choice([1, 2, 3, 8, 13, 30, 60])
@@ -96,6 +234,9 @@ def generate(rng, scenario, p, cycles):
                 stopped = rng.choice([1, 2, 7, 40])
             clear = int(rng.random() < 0.03)
             rst = int(rng.random() < 0.0007)
+            if rng.random() < 0.003:
+                codes = (rng.randrange(4), rng.randrange(4))
+            all_off = int(rng.random() < 0.003)
         elif scenario == "fault_chatter":
             # chattering input: glitches of one clock, bursts, a long assertion; clears
             # attempted while active and while inactive
@@ -129,13 +270,19 @@ def generate(rng, scenario, p, cycles):
             fault_in = rng.randint(0, 1) if chatter > 1 else 1
         stop = int(stopped > 0)
         stopped = max(stopped - 1, 0)
+        if scenario == "fault_reaction":
+            fault_in, clear, stop, rst, all_off, codes = episodes.inputs(cycle)
         update = s.update_strobe()
         h = s.h if update or rng.random() < 0.5 else rng.randrange(1 << n)  # noise between
         inputs = {"rst": rst, "h": h, "update": update, "enable": s.enable, "dead": s.dead,
                   "min_pulse": s.min_pulse, "fault_in": fault_in, "fault_clear": clear,
-                  "stop": stop}
+                  "stop": stop, "reaction_fault": codes[0], "reaction_watchdog": codes[1],
+                  "all_off": all_off}
         in_force.append(model.dead_in_force)     # the legs act on last clock's dead
+        before = reaction_state(model, inputs) if hit is not None else None
         out = model.step(**inputs)
+        if hit is not None:
+            reaction_bins(model, inputs, before, hit)
         for name in INPUTS:
             stim[name].append(inputs[name])
         for name in DRIVER_OUTPUTS:
@@ -146,15 +293,23 @@ def generate(rng, scenario, p, cycles):
     CARRY["last"] = {name: stim[name][-1] for name in INPUTS}
     kill = [f | k for f, k in zip(expected["fault_input"], stim["stop"], strict=True)]
     turn_ons = check_gate_safety(up, lo, n, dead=in_force, kill=kill,
-                                 rst=stim["rst"], dt_run0=dt_run0)
+                                 rst=stim["rst"], dt_run0=dt_run0, reaction=expected["reaction"])
     return stim, expected, turn_ons
 
 
 async def run_scenario(dut, scenario, cycles):
     p = params()
     rng = seeded_rng(dut, f"driver_{scenario}")
-    stim, expected, turn_ons = generate(rng, scenario, p, cycles)
+    hit = set()
+    stim, expected, turn_ons = generate(rng, scenario, p, cycles, hit)
     assert turn_ons >= 20, f"driver_{scenario}: only {turn_ons} turn-ons, the test is vacuous"
+    if scenario == "fault_reaction":        # functional coverage of the fault reaction
+        want = REACTION_BINS if p["asc"] else REACTION_BINS_ALL_OFF
+        missing = sorted(want - hit, key=str)
+        assert not missing, f"driver_{scenario}: bins never reached {missing}"
+        if not p["asc"]:
+            assert not any(b[0] == "first" and b[2] for b in hit if isinstance(b, tuple)), \
+                "an ASC without the ASC built in"
     await start(dut)
     checked = await check_cycles(dut, stim, expected)
     dut._log.info("driver_%s: %d cycles, %d turn-ons, every output equal to the model",
@@ -192,17 +347,25 @@ async def driver_dead_change(dut):
 
 
 @cocotb.test()
+async def driver_fault_reaction(dut):
+    """The fault reaction: each source and reaction, entries with legs on, inside their
+    minimum pulse or a dead time; ALL_OFF, clears, a second source, new inputs, resets."""
+    await run_scenario(dut, "fault_reaction", 8000)
+
+
+@cocotb.test()
 async def driver_min_pulse(dut):
     """Update periods shorter than dead time + minimum pulse: pulses stretched or swallowed."""
     await run_scenario(dut, "min_pulse", 4000)
 
 
-@pytest.mark.parametrize(("phases", "dead_min", "time_width", "upper_low", "lower_low"), CASES)
-def test_driver(phases, dead_min, time_width, upper_low, lower_low):
-    run_block(lambda: GateDriver(phases, dead_min, time_width, upper_low, lower_low),
+@pytest.mark.parametrize(("phases", "dead_min", "time_width", "upper_low", "lower_low", "asc"),
+                         CASES)
+def test_driver(phases, dead_min, time_width, upper_low, lower_low, asc):
+    run_block(lambda: GateDriver(phases, dead_min, time_width, upper_low, lower_low, asc=asc),
               "gate_driver", "test_driver",
               {"phases": phases, "dead_min": dead_min, "time_width": time_width,
-               "upper_active_low": upper_low, "lower_active_low": lower_low})
+               "upper_active_low": upper_low, "lower_active_low": lower_low, "asc": asc})
 
 
 # ---------------------------------------------------------------------- formal properties
@@ -227,7 +390,9 @@ def simulate_properties(dut, phases, dead_min, time_width, seed, cycles, compare
                   "dead": int(rng.choice([0, 1, dead_min, 3, 6, top])),
                   "min_pulse": int(rng.choice([0, 1, 4, 12])),
                   "fault_in": int(rng.random() < 0.02), "fault_clear": int(rng.random() < 0.1),
-                  "stop": int(rng.random() < 0.01)}
+                  "stop": int(rng.random() < 0.01),
+                  "reaction_fault": int(rng.integers(4)), "reaction_watchdog": int(rng.integers(4)),
+                  "all_off": int(rng.random() < 0.02)}
             for name, value in kw.items():
                 ctx.set(cd.rst if name == "rst" else getattr(dut, name), value)
             want = model.step(**kw)
@@ -252,6 +417,14 @@ def test_formal_properties_catch_a_missing_dead_time(monkeypatch):
         simulate_properties(GateDriver(3, 2, 6, formal=True), 3, 2, 6, 1, 2500, compare=False)
 
 
+def test_formal_properties_catch_an_asc_without_dead_time(monkeypatch):
+    import mdfqm_gateware.driver as driver
+
+    monkeypatch.setattr(driver, "LegDriver", AscWithoutDeadTimeLeg)
+    with pytest.raises(AssertionError, match=r"turn-on before the dead"):
+        simulate_properties(GateDriver(3, 2, 6, formal=True), 3, 2, 6, 1, 2500, compare=False)
+
+
 def test_formal_properties_do_not_change_the_drop_in_verilog():
     from amaranth.back import verilog
 
@@ -269,6 +442,7 @@ def test_formal_properties_do_not_change_the_drop_in_verilog():
     ((3, 1), {"upper_active_low": 0}, "upper_active_low must be a bool, not 0"),
     ((3, 1), {"lower_active_low": None}, "lower_active_low must be a bool, not None"),
     ((3, 1), {"formal": 1}, "formal must be a bool, not 1"),
+    ((3, 1), {"asc": "yes"}, "asc must be a bool, not 'yes'"),
 ])
 def test_driver_rejects_bad_parameters(args, kwargs, message):
     with pytest.raises(ValueError) as info:
@@ -280,6 +454,7 @@ def test_driver_rejects_bad_parameters(args, kwargs, message):
     ({"dead_min": 0}, "dead_min must be an integer in [1, 65535] (clocks), not 0"),
     ({"dead_min": 2.0}, "dead_min must be an integer in [1, 65535] (clocks), not 2.0"),
     ({"dead_min": 1, "formal": "no"}, "formal must be a bool, not 'no'"),
+    ({"dead_min": 1, "asc": 0}, "asc must be a bool, not 0"),
 ])
 def test_leg_rejects_bad_parameters(kwargs, message):
     with pytest.raises(ValueError) as info:

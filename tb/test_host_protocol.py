@@ -208,6 +208,7 @@ def test_cli_commands(capsys):
     code, out = run_cli(capsys, "info")
     assert code == 0 and "3 phases, 16-bit references" in out and "MdfqmTop" in out
     assert "modulation mdfqm; built in: mdfqm, svpwm, dpwm0, dpwm1, dpwm (max b 8)" in out
+    assert "fault reactions built in: all off, ASC low, ASC high" in out
     assert "zero policy all-off" in out and "watchdog   off, 0 trips" in out
     code, out = run_cli(capsys, "set", "--freq", "60", "--amp", "0.4", "--modulation", "svpwm",
                         "--bits", "4", "--zero-policy", "all-off",

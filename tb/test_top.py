@@ -26,12 +26,13 @@ from top_stimulus import IDLE_WISHBONE
 
 # (phases, width, rule, dead_min, upper_active_low, lower_active_low, bus, counter_width,
 #  max_bits): the generator at the drop-in's b, a smaller one, the MDFQM-only top
-CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone", 32, 8),
-         (5, 16, "exact_nearest", 5, True, True, "wishbone", 32, 4),
-         (3, 16, "largest_duty", 4, False, True, "axi4lite", 8, 0)]
+# (phases, width, rule, dead_min, upper_low, lower_low, bus, counter_width, max_bits, asc)
+CASES = [(3, 16, "largest_duty", 3, False, False, "wishbone", 32, 8, True),
+         (5, 16, "exact_nearest", 5, True, True, "wishbone", 32, 4, True),
+         (3, 16, "largest_duty", 4, False, True, "axi4lite", 8, 0, False)]
 SINGLE_TESTS = ["top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
-                "top_fault", "top_interrupt", "top_watchdog", "top_bad_input",
-                "top_short_edge_timing"]
+                "top_fault", "top_fault_reaction", "top_interrupt", "top_watchdog",
+                "top_bad_input", "top_short_edge_timing"]
 
 COMMON_INPUTS = ("rst", "ref__valid", "ref__payload", "fault_in", "sync_in")
 COMMON_OUTPUTS = {"ref__ready": "ref_ready", "upper": "upper", "lower": "lower",
@@ -50,7 +51,8 @@ def port_name(name: str) -> str:
 def make_model(p):
     return TopModel(p["phases"], p["width"], p["rule"], p["dead_min"], p["upper_active_low"],
                     p["lower_active_low"], bus=p.get("bus", "wishbone"),
-                    counter_width=p.get("counter_width", 32), max_bits=p.get("max_bits"))
+                    counter_width=p.get("counter_width", 32), max_bits=p.get("max_bits"),
+                    asc=p.get("asc", True))
 
 
 class WishboneMaster:
@@ -190,7 +192,8 @@ class Bench:
         self.stim = {prefix + name: [] for name in inputs}
         self.expected = {prefix + name: [] for name in outputs}
         self.trace = {k: [] for k in ("up", "lo", "dead", "kill", "rst", "adc_offset",
-                                      "count_clear", "short_edge", "mode", "watchdog")}
+                                      "count_clear", "short_edge", "mode", "watchdog",
+                                      "reaction", "all_off")}
         self.mode_cycle = []         # MODULATION modes still to be written (random order)
         self.issued_reads = deque()  # (issue cycle, address) of reads not yet answered
         self.reads = []          # (issue cycle, address, value)
@@ -248,6 +251,9 @@ class Bench:
         t["lo"].append(m.driver.lo)
         t["short_edge"].append(m.driver.short_edge)
         t["watchdog"].append(m.wd_tripped)
+        t["reaction"].append(m.driver.reaction)
+        t["all_off"].append(int(not rst and write is not None and write[0] == regs.CMD
+                                and bool(write[1] & regs.CMD_ALL_OFF)))
         t["mode"].append(getattr(m.core, "mode_lat", 0))
         if read is not None and not rst:
             self.issued_reads.append((self.cycle, read))
@@ -285,7 +291,8 @@ class Bench:
         up, lo = np.array(self.trace["up"]), np.array(self.trace["lo"])
         dead = np.maximum(np.array(self.trace["dead"]), self.model.dead_min)
         return check_gate_safety(up, lo, self.n, dead=dead, kill=self.trace["kill"],
-                                 rst=self.trace["rst"], dt_run0=dt_run0)
+                                 rst=self.trace["rst"], dt_run0=dt_run0,
+                                 reaction=self.trace["reaction"])
 
 
 #: The model carried from one cocotb test to the next of the same simulation (the gate driver's
@@ -476,6 +483,78 @@ def build_fault(b, rng, p):
         b.tick(fault_in=fault_in)
 
 
+def build_fault_reaction(b, rng, p):
+    """The fault reaction as firmware uses it: FAULT_REACTION written (every code, 3 and the
+    undefined bits too), a fault on the pin or a watchdog trip (the stream stalled) or both,
+    STATUS read during it, FAULT_REACTION rewritten while a reaction is in force, CMD.ALL_OFF,
+    the clears; the gates enabled or not. Functional coverage from the model's trace: each
+    source with each reaction, an ASC ended by ALL_OFF and by a clear, a write while an ASC is
+    in force, STATUS.REACTION read as each ASC (without the ASC built in: never an ASC)."""
+    configure(b, period=rng.choice([12, 20]), dead=3)
+    b.run_until_idle()
+    m = b.model
+    plans = [(source, code) for source in ("fault", "watchdog") for code in (0, 1, 2)]
+    rng.shuffle(plans)
+    plans += [(rng.choice(["fault", "watchdog", "both"]), rng.randrange(4)) for _ in range(6)]
+    writes_in_force, asc_plans = 0, 0
+    for source, code in plans:
+        # ALL_OFF ends every other ASC (and half the others), the clears the rest
+        asc_plans += code in (1, 2)
+        all_off = asc_plans % 2 == 1 if code in (1, 2) else rng.random() < 0.5
+        enabled = rng.random() < 0.8
+        b.write(regs.CTRL, regs.CTRL_ENABLE if enabled else 0)
+        other = rng.randrange(4)
+        fault_code, wd_code = (other, code) if source == "watchdog" else (code, other)
+        word = (fault_code << regs.FAULT_REACTION_FAULT_SHIFT
+                | wd_code << regs.FAULT_REACTION_WATCHDOG_SHIFT)
+        b.write(regs.FAULT_REACTION, word | rng.choice([0, 0, 0xFFFFFFF0]))
+        b.read(regs.FAULT_REACTION)
+        if source != "fault":
+            b.write(regs.WATCHDOG, 1)
+        b.run_until_idle()
+        for _ in range(rng.randint(30, 200)):
+            b.tick()
+        fault_len = rng.randint(3, 40)
+        for k in range(rng.randint(250, 450)):
+            stalled = source != "fault" and k < 120
+            fault_in = int(source != "watchdog" and k < fault_len)
+            if b.idle():
+                if k == 150:
+                    b.read(regs.STATUS)
+                    if code in (1, 2) or rng.random() < 0.5:   # not the one in force
+                        writes_in_force += m.driver.reaction != 0
+                        b.write(regs.FAULT_REACTION, rng.getrandbits(4))
+                        b.read(regs.STATUS)
+                elif k == 200 and all_off:
+                    b.write(regs.CMD, regs.CMD_ALL_OFF)
+                    b.read(regs.STATUS)
+                elif k == 240:
+                    b.write(regs.WATCHDOG, 0)
+                    b.write(regs.CMD, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR)
+                    b.read(regs.STATUS)
+            b.tick(fault_in=fault_in, stream=not stalled)
+        b.run_until_idle()
+    b.write(regs.CTRL, regs.CTRL_ENABLE)
+    b.run_until_idle()
+    for _ in range(200):
+        b.tick()
+    # functional coverage, from the model's trace and the STATUS reads
+    r = np.array(b.trace["reaction"])
+    fault, wd = np.array(b.trace["kill"]), np.array(b.trace["watchdog"])
+    ended = np.flatnonzero((r[:-1] != 0) & (r[1:] == 0))
+    by_all_off = sum(int(np.array(b.trace["all_off"])[t - 1:t + 1].any()) for t in ended)
+    read = {v >> regs.STATUS_REACTION_SHIFT & 3 for _, a, v in b.reads if a == regs.STATUS}
+    if m.asc:
+        assert {1, 2} <= set(r.tolist()), "an ASC never in force"
+        assert {1, 2} <= read, "STATUS.REACTION never read as each ASC"
+        assert by_all_off >= 1 and len(ended) - by_all_off >= 1, \
+            "an ASC not ended by ALL_OFF and by a clear"
+        assert writes_in_force >= 1, "FAULT_REACTION never written while an ASC was in force"
+    else:
+        assert not r.any() and read == {0}, "an ASC without the ASC built in"
+    assert fault.any() and wd.any(), "a source never set"
+
+
 def build_interrupt(b, rng, p):
     """Firmware serving the interrupt: every source enabled at times, IRQ_STATUS read and cleared
     when irq is high (also in the clock of a new event), faults, sampling ticks, counters run
@@ -654,6 +733,12 @@ async def top_fault(dut):
 
 
 @cocotb.test()
+async def top_fault_reaction(dut):
+    """FAULT_REACTION per source, STATUS.REACTION, CMD.ALL_OFF, the clears, rewrites."""
+    await run_bench(dut, "top_fault_reaction", build_fault_reaction, modes_seen=set())
+
+
+@cocotb.test()
 async def top_interrupt(dut):
     """IRQ_ENABLE / IRQ_STATUS served like firmware does; faults, ticks and counter wraps."""
     await run_bench(dut, "top_interrupt", build_interrupt)
@@ -798,14 +883,15 @@ async def top_bad_input(dut):
 
 
 @pytest.mark.parametrize(("phases", "width", "rule", "dead_min", "upper_low", "lower_low", "bus",
-                          "counter_width", "max_bits"), CASES)
-def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus, counter_width, max_bits):
+                          "counter_width", "max_bits", "asc"), CASES)
+def test_top(phases, width, rule, dead_min, upper_low, lower_low, bus, counter_width, max_bits,
+             asc):
     run_block(lambda: MdfqmTop(phases, width, rule, dead_min, upper_low, lower_low, bus=bus,
-                               counter_width=counter_width, max_bits=max_bits),
+                               counter_width=counter_width, max_bits=max_bits, asc=asc),
               "mdfqm_top", "test_top",
               {"phases": phases, "width": width, "rule": rule, "dead_min": dead_min,
                "upper_active_low": upper_low, "lower_active_low": lower_low, "bus": bus,
-               "counter_width": counter_width, "max_bits": max_bits},
+               "counter_width": counter_width, "max_bits": max_bits, "asc": asc},
               testcase=SINGLE_TESTS)
 
 
@@ -911,6 +997,7 @@ def test_top_pair():
     ({"upper_active_low": 1}, "upper_active_low must be a bool, not 1"),
     ({"lower_active_low": "low"}, "lower_active_low must be a bool, not 'low'"),
     ({"formal": None}, "formal must be a bool, not None"),
+    ({"asc": 1}, "asc must be a bool, not 1"),
     ({"bus": "apb"}, "bus must be one of ('wishbone', 'axi4lite'), not 'apb'"),
     ({"counter_width": 7}, "counter_width must be an integer in [8, 32], not 7"),
     ({"max_bits": 15}, "max_bits must be an integer in [1, 12] for a 16-bit reference "

@@ -49,7 +49,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
     axi = component.bus == "axi4lite"
     model = TopModel(phases, width, component.rule, component.dead_min,
                      component.upper_active_low, component.lower_active_low, bus=component.bus,
-                     counter_width=component.counter_width, max_bits=component.max_bits)
+                     counter_width=component.counter_width, max_bits=component.max_bits,
+                     asc=component.asc)
     contract = Contract(phases, width)
     inputs, outputs = ports_of(component)
     stim = {port: [] for port, _ in inputs}
@@ -88,6 +89,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                        if long
                        else rng.randrange(period) if medium else rng.randrange(100)),
                       (regs.WATCHDOG, 1, rng.choice([0, 2, 4, 8])),
+                      # each source's reaction, any code (3 stores all off)
+                      (regs.FAULT_REACTION, 1, rng.randrange(16)),
                       (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
 
     def random_write():
@@ -121,6 +124,7 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                   regs.DEAD: (0, 1, *big, *walk16), regs.MIN_PULSE: (0, *big, *walk16),
                   regs.ADC_OFFSET: (0, *big, *walk16), regs.WATCHDOG: (1, *big, *walk16, 0),
                   regs.MODULATION: (0xFFFFFFFF, 0), regs.IRQ_ENABLE: (0xFFFFFFFF,),
+                  regs.FAULT_REACTION: (0xFFFFFFFF, 0b0101, 0b1010, 0b0111, 0b1101, 0),
                   regs.CTRL: (0xFFFFFFFF & ~regs.CTRL_ENABLE,),
                   **{regs.REF_BASE + i: tuple(pack([c], 32) for c in codes)
                      for i in range(phases)}}
@@ -221,6 +225,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
                   | next_bits() << regs.MODULATION_BITS_SHIFT),
                  (regs.MODULATION, 0, 0)],
                 [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
+                # the firmware's step from an active short circuit to all off
+                [(regs.CMD, 1, regs.CMD_ALL_OFF), (regs.STATUS, 0, 0)],
                 # every switching counter read (not only right after a clear)
                 [(regs.EVENTS_BASE + i, 0, 0) for i in range(phases)]
                 + [(regs.EVENTS_TOTAL, 0, 0)],
@@ -233,8 +239,8 @@ def top_stimulus(rng, component, phases, width, cycles, census=None):
             ops.append((regs.CMD, 1, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR))
         if burst and not ops:
             ops.append(rng.choice([
-                (regs.CMD, 1, rng.randrange(16)),
-                (regs.CMD, 1, rng.randrange(16) & ~regs.CMD_REF_COMMIT),  # the port served
+                (regs.CMD, 1, rng.randrange(32)),
+                (regs.CMD, 1, rng.randrange(32) & ~regs.CMD_REF_COMMIT),  # the port served
                 (regs.IRQ_STATUS, 1, rng.getrandbits(32)), (regs.IRQ_STATUS, 0, 0),
                 random_write(), random_write(),
             ]))

@@ -106,12 +106,12 @@ def compile_rdl(path: Path | None = None) -> Compiled:
 
 
 # ---------------------------------------------------------------------------- clamps
-_CLAMP_OPS = (ast.Add, ast.Sub, ast.Mult, ast.FloorDiv, ast.Pow, ast.USub)
+_CLAMP_OPS = (ast.Add, ast.Sub, ast.Mult, ast.FloorDiv, ast.Mod, ast.Pow, ast.USub)
 
 
 def check_clamp(expr: str, parameters) -> ast.Expression:
     """Parse a ``clamp`` and check it uses only ``v``, ``s``, the parameters, ``min``, ``max``,
-    integer literals and ``+ - * // **``; raises ValueError otherwise."""
+    integer literals and ``+ - * // % **``; raises ValueError otherwise."""
     try:
         tree = ast.parse(expr, mode="eval")
     except SyntaxError as error:
@@ -141,7 +141,7 @@ def clamp_value(expr: str, word: int, parameters: dict, lsb: int = 0) -> int:
     signed = word - (1 << 32) if word >> 31 else word
     env = {**{k: int(v) for k, v in parameters.items()}, "v": word >> lsb, "s": signed >> lsb}
     ops = {ast.Add: int.__add__, ast.Sub: int.__sub__, ast.Mult: int.__mul__,
-           ast.FloorDiv: int.__floordiv__, ast.Pow: int.__pow__}
+           ast.FloorDiv: int.__floordiv__, ast.Mod: int.__mod__, ast.Pow: int.__pow__}
 
     def value(node):
         if isinstance(node, ast.Constant):

@@ -128,6 +128,8 @@ def cmd_info(device: DemoDevice, args, out) -> None:
     print(f"  dead time  {s.dead_ns:.0f} ns, minimum pulse {s.min_pulse_ns:.0f} ns", file=out)
     watchdog = f"{s.watchdog} update starts" if s.watchdog else "off"
     print(f"  watchdog   {watchdog}, {s.watchdog_trips} trips", file=out)
+    reactions = "all off, ASC low, ASC high" if i.asc else "all off"
+    print(f"  fault reactions built in: {reactions}", file=out)
 
 
 def cmd_set(device: DemoDevice, args, out) -> None:

@@ -72,6 +72,7 @@ class DeviceInfo:
     top: bool
     max_bits: int               # largest resolution b of the slot modes (0: MDFQM-only top)
     modes: int                  # modulation modes built in: MODULATIONS[:modes]
+    asc: bool = False           # the active short circuit built in (INFO.ASC)
 
     @property
     def full(self) -> int:
@@ -134,7 +135,8 @@ class DemoDevice:
             clk_hz=client.read(self.demo.addr("CLK_HZ")), phases=phases, width=width,
             acc_bits=acc_bits, top=True,
             max_bits=(top_info & top.INFO_MAX_BITS) >> top.INFO_MAX_BITS_SHIFT,
-            modes=(top_info & top.INFO_MODES) >> top.INFO_MODES_SHIFT)
+            modes=(top_info & top.INFO_MODES) >> top.INFO_MODES_SHIFT,
+            asc=bool(top_info & top.INFO_ASC))
 
     # ---------------------------------------------------------------- conversions
     def _clocks(self, ns: float, name: str, maximum: int) -> int:

@@ -59,7 +59,7 @@ class SimulatedDevice:
                      m.dead_min: 64, TOP_BASE + top.ID: top.ID_VALUE, m.modulation: 0,
                      m.watchdog: 0, m.watchdog_trips: 0,
                      m.info: info_word(phases, width, "largest_duty", False, False, latency,
-                                       max_bits)}
+                                       max_bits, asc=True)}
         self.fault = False
         self.demo_regs = {"NCO_FREQ": round(50 * (1 << acc_bits) / clk_hz),
                           "NCO_AMP": 1 << (width - 3)}

@@ -19,10 +19,15 @@ Registers, all in the *active-high* domain (1 = switch on), reset to zero unless
   reset, so a reset cannot shorten a dead time that is already running.
 - ``event``: one-clock strobe, high in the cycle in which a switch's turn-on becomes visible.
 
-Inputs: ``cmd`` (1: upper on, 0: lower on), ``drive`` (0: both off now), ``dead`` and
-``min_pulse`` (unsigned ``time_width``-bit clocks). With ``dt = max(dead, dead_min)`` (the floor
-``dead_min`` is fixed at elaboration) and ``dt_req = max(dt_run, dt)``, the next state is:
+Inputs: ``cmd`` (1: upper on, 0: lower on), ``drive`` (0: both off now), ``asc`` (the fault
+reaction: 0 none, 1 active short circuit low, 2 active short circuit high; the driver never
+gives a nonzero ``asc`` together with ``drive``), ``dead`` and ``min_pulse`` (unsigned
+``time_width``-bit clocks). With ``dt = max(dead, dead_min)`` (the floor ``dead_min`` is fixed
+at elaboration) and ``dt_req = max(dt_run, dt)``, the next state is:
 
+0. ``asc`` 1 (2): the *ASC switch* is the lower (upper) one. It stays on if it is on; the other
+   switch, if on, turns off now (the minimum pulse is ignored, as on a fault); from both off the
+   ASC switch turns on if ``cnt + 1 >= dt_req`` (the dead time, as rule 4), else both stay off.
 1. ``drive == 0``: both off (fault and disable override the minimum pulse).
 2. a switch is on and it is the commanded one: keep it.
 3. a switch is on, the other one is commanded: turn it off if ``cnt + 1 >= min_pulse``
@@ -71,7 +76,30 @@ The N-leg driver (:class:`GateDriverModel`)
   ``IRQ_STATUS.SHORT_EDGE`` from it, the clock after the edge. ``short_edge`` (reset 0) is the
   same, registered: high in the cycle after the edge.
 - Each leg: ``drive = en and not fault_active and not stop``. A synchronised fault (or
-  ``stop``) visible in cycle ``t`` turns every output off in cycle ``t + 1``.
+  ``stop``) visible in cycle ``t`` turns every output off in cycle ``t + 1`` (every output but
+  the ASC switches under an active short circuit, below).
+- The fault reaction (``asc`` parameter True: the active short circuit built in; False: all
+  off only). The *sources* are the fault (``fault_active``) and ``stop`` (the watchdog latch);
+  a source *rises* in a cycle in which it is high and was low in the cycle before (registers
+  ``fault_prev``, ``stop_prev``, reset 0: a source high in the first cycle after a reset rises).
+  The inputs ``reaction_fault`` and ``reaction_watchdog`` (2 bits each) name each source's
+  reaction: 1 ASC low, 2 ASC high; 0, 3, and any value when ``asc`` is False, all off. The
+  reaction *now* of a cycle:
+
+  - 0 (all off) if neither source is high, or ``all_off`` (the CMD.ALL_OFF strobe) is high, or
+    a source rises whose reaction is all off;
+  - otherwise, if neither source was high in the cycle before (the gates leave normal
+    operation): the rising source's reaction (both rising: the fault's, when the watchdog's
+    is not all off, by the previous rule);
+  - otherwise the reaction in force ``reaction`` (held: a later write of the inputs does not
+    change it, and ASC low never becomes ASC high or the reverse).
+
+  ``reaction <= now`` (reset 0); ``reaction`` is the output ``reaction`` (the top's
+  ``STATUS.REACTION``): the reaction that decided the gates of this cycle. Each leg gets
+  ``asc = now`` (rule 0 above) and ``drive and reaction == 0``: in the cycle after the reaction
+  in force goes from an ASC to all off (``ALL_OFF``, or both sources clear), every switch is off,
+  even when the enable is taken in that cycle (it is: ``active`` follows ``drive``); the dead
+  time then guards the next turn-on.
 - Pins: ``upper = up ^ upper_active_low``, ``lower = lo ^ lower_active_low`` (the inversion is
   applied last, to registers).
 
@@ -101,10 +129,10 @@ __all__ = [
 
 #: inputs of :meth:`GateDriverModel.step` (and the gateware's ports, ``rst`` its reset)
 DRIVER_INPUTS = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in", "fault_clear",
-                 "stop")
+                 "stop", "reaction_fault", "reaction_watchdog", "all_off")
 #: per-cycle outputs of :meth:`GateDriverModel.step`
 DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active", "short_edge",
-                  "short_edge_now")
+                  "short_edge_now", "reaction")
 
 
 class LegModel:
@@ -127,9 +155,17 @@ class LegModel:
     def dead_clamped(self, dead: int) -> int:
         return max(dead, self.dead_min)
 
-    def next_state(self, cmd: int, drive: int, dead: int, min_pulse: int) -> tuple[int, int]:
+    def next_state(self, cmd: int, drive: int, dead: int, min_pulse: int,
+                   asc: int = 0) -> tuple[int, int]:
         """``(up, lo)`` of the next cycle, from this cycle's registers and inputs."""
         on = self.up or self.lo
+        if asc:
+            want_up, want_lo = int(asc == 2), int(asc == 1)
+            if on:
+                return self.up & want_up, self.lo & want_lo
+            if self.cnt + 1 >= max(self.dt_run, self.dead_clamped(dead)):
+                return want_up, want_lo
+            return 0, 0
         if not drive:
             return 0, 0
         want_up, want_lo = int(cmd == 1), int(cmd == 0)
@@ -144,7 +180,8 @@ class LegModel:
             return want_up, want_lo
         return 0, 0
 
-    def step(self, rst: int, cmd: int, drive: int, dead: int, min_pulse: int) -> dict:
+    def step(self, rst: int, cmd: int, drive: int, dead: int, min_pulse: int,
+             asc: int = 0) -> dict:
         """Outputs of this cycle (``up``, ``lo``, ``event``, active-high), then advance."""
         out = {"up": self.up, "lo": self.lo, "event": self.event}
         on = int(self.up or self.lo)
@@ -152,7 +189,7 @@ class LegModel:
         if rst:
             self.reset()
         else:
-            n_up, n_lo = self.next_state(cmd, drive, dead, min_pulse)
+            n_up, n_lo = self.next_state(cmd, drive, dead, min_pulse, asc)
             n_on = int(n_up or n_lo)
             self.cnt = 0 if n_on != on else min(self.cnt + 1, self.top)
             self.event = int(not on and n_on)
@@ -166,7 +203,8 @@ class GateDriverModel:
 
     ``phases`` N >= 1 legs, ``dead_min`` the dead-time floor in clocks (>= 1), ``time_width``
     the width of ``dead`` / ``min_pulse``, ``upper_active_low`` / ``lower_active_low`` the pin
-    polarity of each side (elaboration-time, never runtime: see ``docs/top.md``).
+    polarity of each side (elaboration-time, never runtime: see ``docs/top.md``), ``asc``
+    whether the active short circuit is built in (False: every reaction is all off).
     """
 
     def __init__(
@@ -176,6 +214,7 @@ class GateDriverModel:
         time_width: int = TIME_WIDTH,
         upper_active_low: bool = False,
         lower_active_low: bool = False,
+        asc: bool = True,
     ):
         if isinstance(phases, bool) or not isinstance(phases, int) or phases < 1:
             raise ValueError(f"phases must be an integer >= 1, not {phases!r}")
@@ -184,6 +223,7 @@ class GateDriverModel:
         self.dead_min = validate_dead_min(dead_min, time_width)
         self.upper_active_low = validate_bool(upper_active_low, "upper_active_low")
         self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")
+        self.asc = validate_bool(asc, "asc")
         self.mask = (1 << phases) - 1
         self.legs = [LegModel(dead_min, time_width) for _ in range(phases)]
         self.sync1 = 0  # the synchroniser is not reset
@@ -198,6 +238,9 @@ class GateDriverModel:
         self.active = 0
         self.cmd_lat = 0
         self.short_edge = 0
+        self.reaction = 0
+        self.fault_prev = 0
+        self.stop_prev = 0
         for leg in self.legs:
             leg.reset()
 
@@ -227,7 +270,27 @@ class GateDriverModel:
             "fault_input": self.fault_input,
             "active": self.active,
             "short_edge": self.short_edge,
+            "reaction": self.reaction,
         }
+
+    def reaction_code(self, value: int) -> int:
+        """A source's reaction input as the driver acts on it: 1 ASC low, 2 ASC high, else 0
+        (3, and every value without the active short circuit built in)."""
+        return value if self.asc and value in (1, 2) else 0
+
+    def reaction_now(self, fault_active: int, stop: int, reaction_fault: int,
+                     reaction_watchdog: int, all_off: int) -> int:
+        """The reaction of this cycle (module docstring, "The fault reaction")."""
+        if not (fault_active or stop):
+            return 0
+        f, w = self.reaction_code(reaction_fault), self.reaction_code(reaction_watchdog)
+        rise_f = fault_active and not self.fault_prev
+        rise_w = stop and not self.stop_prev
+        if all_off or (rise_f and f == 0) or (rise_w and w == 0):
+            return 0
+        if not (self.fault_prev or self.stop_prev):
+            return f if rise_f else w
+        return self.reaction
 
     def short_edges(self, cmd: int, drive: int) -> int:
         """The legs whose command ``cmd`` of this cycle is a short edge (module docstring)."""
@@ -245,7 +308,7 @@ class GateDriverModel:
     # ------------------------------------------------------------------ one clock
     def step(
         self, rst=0, h=0, update=0, enable=0, dead=0, min_pulse=0, fault_in=0, fault_clear=0,
-        stop=0,
+        stop=0, reaction_fault=0, reaction_watchdog=0, all_off=0,
     ) -> dict:
         rst = check_bit(rst, "rst")
         h = check_uint(h, self.phases, "h")
@@ -256,6 +319,9 @@ class GateDriverModel:
         fault_in = check_bit(fault_in, "fault_in")
         fault_clear = check_bit(fault_clear, "fault_clear")
         stop = check_bit(stop, "stop")
+        reaction_fault = check_uint(reaction_fault, 2, "reaction_fault")
+        reaction_watchdog = check_uint(reaction_watchdog, 2, "reaction_watchdog")
+        all_off = check_bit(all_off, "all_off")
         out = self.outputs()
 
         fault_active = self.fault_input or self.fault
@@ -264,8 +330,11 @@ class GateDriverModel:
         drive = int(en and not fault_active and not stop)
         short = self.short_edges(cmd, drive)
         out["short_edge_now"] = short
+        now = self.reaction_now(int(bool(fault_active)), stop, reaction_fault,
+                                reaction_watchdog, all_off)
+        leg_drive = int(drive and self.reaction == 0)
         for i, leg in enumerate(self.legs):
-            leg.step(rst, (cmd >> i) & 1, drive, self.dead_seen, self.min_pulse_seen)
+            leg.step(rst, (cmd >> i) & 1, leg_drive, self.dead_seen, self.min_pulse_seen, now)
         self.dead_seen, self.min_pulse_seen = dead, min_pulse
         if rst:
             self.reset()
@@ -277,6 +346,9 @@ class GateDriverModel:
             self.cmd_lat = cmd
             self.active = drive
             self.short_edge = short
+            self.reaction = now
+            self.fault_prev = int(bool(fault_active))
+            self.stop_prev = stop
         self.fault_input, self.sync1 = self.sync1, fault_in
         return out
 
@@ -311,6 +383,7 @@ def check_gate_safety(
     kill: Sequence[int] | None = None,
     rst: Sequence[int] | None = None,
     dt_run0: Sequence[int] | None = None,
+    reaction: Sequence[int] | None = None,
 ) -> int:
     """Check the absolute safety properties on an active-high gate trace, independently of
     :class:`LegModel`'s state machine. Raises :class:`SafetyError`, returns the number of
@@ -325,7 +398,9 @@ def check_gate_safety(
        interval, or ``dt_run0`` for an interval that began before cycle 0) and
        ``g >= dead[t - 1]`` (the one in force when the turn-on was decided); the interval
        open at cycle 0 counts from cycle 0;
-    3. ``kill[t]`` (e.g. the synchronised fault) high: every gate off in cycle ``t + 1``;
+    3. ``kill[t]`` (e.g. the synchronised fault) high: every gate off in cycle ``t + 1``, but
+       the ASC switches of ``reaction[t + 1]`` when given (the reaction in force in that cycle:
+       1 the lower switches may be on, 2 the upper ones);
     4. ``rst[t]`` high: every gate off in cycle ``t + 1``.
     """
     up = np.asarray(up, dtype=np.int64)
@@ -336,11 +411,16 @@ def check_gate_safety(
     if len(both):
         t = int(both[0])
         raise SafetyError(f"cycle {t}: both switches on, up={up[t]:#x} lo={lo[t]:#x}")
+    asc = np.zeros(c, dtype=np.int64) if reaction is None else np.asarray(reaction, np.int64)
     for name, arr in (("kill", kill), ("rst", rst)):
         if arr is None:
             continue
         arr = np.asarray(arr, dtype=np.int64)
-        hits = np.flatnonzero(arr[:-1] & (((up[1:] | lo[1:]) & mask) != 0))
+        others_up, others_lo = up, lo
+        if name == "kill":
+            others_up = np.where(asc == 2, 0, up)
+            others_lo = np.where(asc == 1, 0, lo)
+        hits = np.flatnonzero(arr[:-1] & (((others_up[1:] | others_lo[1:]) & mask) != 0))
         if len(hits):
             t = int(hits[0])
             raise SafetyError(f"cycle {t + 1}: gates on one clock after {name} (cycle {t})")

@@ -54,7 +54,11 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   a commit while one is pending replaces the snapshot (a commit wins over the clear).
 - Driver inputs: the generator's ``h`` (followed every clock) and ``update``,
   ``enable = CTRL.ENABLE``, ``dead = DEAD``, ``min_pulse = MIN_PULSE``, ``fault_in`` (port),
-  ``fault_clear = CMD.FAULT_CLEAR`` strobe, ``stop`` = the watchdog latch.
+  ``fault_clear = CMD.FAULT_CLEAR`` strobe, ``stop`` = the watchdog latch,
+  ``reaction_fault = FAULT_REACTION.FAULT``, ``reaction_watchdog = FAULT_REACTION.WATCHDOG``,
+  ``all_off = CMD.ALL_OFF`` strobe. ``STATUS.REACTION`` reads the driver's ``reaction`` (the
+  reaction in force). ``FAULT_REACTION`` stores each field as ``v % 3`` of its two bits (3
+  stores 0), and 0 when the active short circuit is not built in (``asc`` False; ``INFO.ASC``).
 - Switching counters: ``EVENTS[i] += event[i]``, ``EVENTS_TOTAL += popcount(event)`` each
   cycle, ``event`` being the driver's turn-on strobes (one per turn-on of either switch of a
   leg: in complementary switching, one per change of the leg's state). 32 bits, wrapping.
@@ -113,6 +117,7 @@ from mdfqm_spec.regmap import (
     ADC_OFFSET,
     ADDR_WIDTH,
     CMD,
+    CMD_ALL_OFF,
     CMD_COUNT_CLEAR,
     CMD_FAULT_CLEAR,
     CMD_REF_COMMIT,
@@ -127,6 +132,11 @@ from mdfqm_spec.regmap import (
     DEFAULT_DEAD_MIN,
     EVENTS_BASE,
     EVENTS_TOTAL,
+    FAULT_REACTION,
+    FAULT_REACTION_FAULT,
+    FAULT_REACTION_FAULT_SHIFT,
+    FAULT_REACTION_WATCHDOG,
+    FAULT_REACTION_WATCHDOG_SHIFT,
     GATES,
     ID,
     ID_VALUE,
@@ -152,6 +162,7 @@ from mdfqm_spec.regmap import (
     STATUS_FAULT_INPUT,
     STATUS_MODE_CLAMPED,
     STATUS_PERIOD_CLAMPED,
+    STATUS_REACTION_SHIFT,
     STATUS_REF_PENDING,
     STATUS_SATURATED,
     STATUS_WATCHDOG,
@@ -161,7 +172,7 @@ from mdfqm_spec.regmap import (
     info_word,
     validate_top_phases,
 )
-from mdfqm_spec.validate import validate_int
+from mdfqm_spec.validate import validate_bool, validate_int
 
 from .clock import CoreModel, GeneratorModel
 from .driver import GateDriverModel
@@ -271,8 +282,10 @@ class TopModel:
     def __init__(self, phases: int = 3, width: int = 16, rule: str = "largest_duty",
                  dead_min: int = DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, bus: str = "wishbone",
-                 counter_width: int = COUNTER_WIDTH, max_bits: int | None = None):
+                 counter_width: int = COUNTER_WIDTH, max_bits: int | None = None,
+                 asc: bool = True):
         validate_top_phases(phases)
+        self.asc = validate_bool(asc, "asc")
         self.counter_width = validate_int(counter_width, "counter_width", 8, COUNTER_WIDTH)
         self.front = FRONTS[validate_bus(bus)](phases)
         validate_dead_min(dead_min, TIME_WIDTH)
@@ -282,14 +295,14 @@ class TopModel:
         self.core = (GeneratorModel(phases, width, rule, max_bits) if max_bits else
                      CoreModel(phases, width, rule))
         self.driver = GateDriverModel(phases, dead_min, TIME_WIDTH, upper_active_low,
-                                      lower_active_low)
+                                      lower_active_low, asc)
         self.phases, self.width, self.rule = phases, width, rule
         self.dead_min = dead_min
         self.latency = self.core.latency
         self.contract = self.core.contract
         self.long_latency = self.core.long_latency if max_bits else self.latency
         self.info = info_word(phases, width, rule, upper_active_low, lower_active_low,
-                              self.latency, max_bits)
+                              self.latency, max_bits, asc=asc)
         self.reset()
 
     def reset(self) -> None:
@@ -320,6 +333,7 @@ class TopModel:
         self.wd_tripped = 0
         self.wd_trips = 0
         self.wd_arrival = 0             # a reference arrived in the clock before
+        self.fault_reaction = 0
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -341,7 +355,8 @@ class TopModel:
                     | core_out["saturated"] * STATUS_SATURATED
                     | core_out["period_clamped"] * STATUS_PERIOD_CLAMPED
                     | self._mode_clamped(core_out) * STATUS_MODE_CLAMPED
-                    | self.wd_tripped * STATUS_WATCHDOG)
+                    | self.wd_tripped * STATUS_WATCHDOG
+                    | drv_out["reaction"] << STATUS_REACTION_SHIFT)
         if address == PERIOD:
             return self.period
         if address == OSR:
@@ -368,6 +383,8 @@ class TopModel:
             return self.wd_timeout
         if address == WATCHDOG_TRIPS:
             return self.wd_trips
+        if address == FAULT_REACTION:
+            return self.fault_reaction
         if REF_BASE <= address < REF_BASE + n:
             return self.ref[address - REF_BASE] & 0xFFFFFFFF
         if EVENTS_BASE <= address < EVENTS_BASE + n:
@@ -395,6 +412,12 @@ class TopModel:
             self.irq_status &= ~value
         elif address == WATCHDOG:
             self.wd_timeout = min(value, 0xFFFF)
+        elif address == FAULT_REACTION:
+            # each field: 3 stores 0, and so does an ASC code when none is built in
+            fault = (value >> FAULT_REACTION_FAULT_SHIFT) % 4 % 3 * self.asc
+            watchdog = (value >> FAULT_REACTION_WATCHDOG_SHIFT) % 4 % 3 * self.asc
+            self.fault_reaction = (fault << FAULT_REACTION_FAULT_SHIFT
+                                   | watchdog << FAULT_REACTION_WATCHDOG_SHIFT)
         elif address == MODULATION:
             self.mode_request = (value >> MODULATION_MODE_SHIFT) & ((1 << MODE_WIDTH) - 1)
             self.bits_request = (value >> MODULATION_BITS_SHIFT) & ((1 << BITS_WIDTH) - 1)
@@ -438,7 +461,12 @@ class TopModel:
         drv_out = self.driver.step(
             rst=rst, h=core_out["h"], update=core_out["update"],
             enable=int(bool(self.ctrl & CTRL_ENABLE)), dead=self.dead, min_pulse=self.min_pulse,
-            fault_in=fault_in, fault_clear=int(bool(cmd & CMD_FAULT_CLEAR)), stop=self.wd_tripped)
+            fault_in=fault_in, fault_clear=int(bool(cmd & CMD_FAULT_CLEAR)), stop=self.wd_tripped,
+            reaction_fault=(self.fault_reaction & FAULT_REACTION_FAULT)
+            >> FAULT_REACTION_FAULT_SHIFT,
+            reaction_watchdog=(self.fault_reaction & FAULT_REACTION_WATCHDOG)
+            >> FAULT_REACTION_WATCHDOG_SHIFT,
+            all_off=int(bool(cmd & CMD_ALL_OFF)))
         out = {
             **self.front.outputs(),
             "ref_ready": port_ready,

@@ -51,7 +51,7 @@ def test_reset_state_all_off_with_polarity():
     m = GateDriverModel(3, 4, upper_active_low=True)
     o = m.step()
     assert o == {"upper": 0b111, "lower": 0, "event": 0, "fault": 0, "fault_input": 0, "active": 0,
-                 "short_edge": 0, "short_edge_now": 0}
+                 "short_edge": 0, "short_edge_now": 0, "reaction": 0}
 
 
 def test_first_turn_on_waits_the_dead_time_after_reset():
@@ -299,6 +299,11 @@ def test_safety_checker_catches_violations():
         check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[1, 1, 4, 1, 1])
     with pytest.raises(SafetyError, match="one clock after kill"):
         check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0])
+    # under an ASC its switches may stay on after a kill, the others may not
+    assert check_gate_safety([0, 0], [1, 1], 1, kill=[1, 0], reaction=[1, 1]) == 0
+    assert check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0], reaction=[2, 2]) == 0
+    with pytest.raises(SafetyError, match="one clock after kill"):
+        check_gate_safety([1, 1], [0, 0], 1, kill=[1, 0], reaction=[1, 1])
     assert check_gate_safety([1, 0, 0, 0, 0], [0, 0, 0, 1, 1], 1, dead=[2, 1, 2, 1, 1]) == 1
 
 
@@ -323,6 +328,7 @@ def test_safety_checker_catches_violations():
             {"phases": 3, "dead_min": 1, "lower_active_low": "yes"},
             "lower_active_low must be a bool, not 'yes'",
         ),
+        ({"phases": 3, "dead_min": 1, "asc": 1}, "asc must be a bool, not 1"),
     ],
 )
 def test_rejects_bad_parameters(kwargs, message):
@@ -370,3 +376,122 @@ def test_dead_and_min_pulse_act_one_clock_after_they_arrive():
     assert 1 not in run(turn_on - 2, 99)[1][:turn_on + 1]      # raised the clock before
     assert run(99, turn_off - 1)[0].index(0, 3) == turn_off    # min_pulse in the deciding clock
     assert run(99, turn_off - 2)[0].index(0, 3) > turn_off     # and the clock before
+
+
+# ------------------------------------------------------------------ the fault reaction
+def pulse_at(cycles, *times):
+    a = np.zeros(cycles, dtype=np.int64)
+    a[list(times)] = 1
+    return a
+
+
+def test_asc_low_on_a_fault_then_all_off_then_clear():
+    m = GateDriverModel(3, 2)
+    cycles = 80
+    stim = updates_at(cycles, list(range(0, cycles, 10)), [0b011] * 8)
+    # the fault synchronised at 32: the upper switches off at 33, every lower one on at 35
+    # (off since 33: two clocks of dead time); ALL_OFF at 50: all off from 51; the clear at 55
+    # and the update at 60 bring the command back at 61 (off for ten clocks already)
+    out = run(m, cycles, dead=2, fault_in=pulse_at(cycles, 30), reaction_fault=1,
+              all_off=pulse_at(cycles, 50), fault_clear=pulse_at(cycles, 55), **stim)
+    assert list(out["up"][31:36]) == [0b011, 0b011, 0, 0, 0]
+    assert list(out["lo"][31:36]) == [0b100, 0b100, 0b100, 0b100, 0b111]
+    assert (out["lo"][35:51] == 0b111).all() and not out["up"][33:51].any()
+    assert list(out["reaction"][31:35]) == [0, 0, 1, 1] and (out["reaction"][33:51] == 1).all()
+    assert not (out["up"] | out["lo"])[51:61].any() and not out["reaction"][51:].any()
+    assert list(out["fault"][55:58]) == [1, 0, 0]
+    assert (out["up"][61:] == 0b011).all() and (out["lo"][61:] == 0b100).all()
+    assert list(out["event"][33:36]) == [0, 0, 0b011]   # the ASC turn-ons are events
+    check_gate_safety(out["up"], out["lo"], 3, dead=np.full(cycles, 2),
+                      kill=out["fault_input"] | out["fault"], reaction=out["reaction"])
+
+
+def test_asc_ends_on_the_clear_through_all_off_even_at_an_update():
+    m = GateDriverModel(3, 2)
+    cycles = 80
+    stim = updates_at(cycles, list(range(0, cycles, 10)), [0b011] * 8)
+    # clear at 59: the latch is clear at 60 (an update, enable high): every switch off at 61
+    # and 62, the commanded ones on at 63 after the dead time
+    out = run(m, cycles, dead=2, fault_in=pulse_at(cycles, 30), reaction_fault=1,
+              fault_clear=pulse_at(cycles, 59), **stim)
+    assert (out["lo"][35:61] == 0b111).all() and (out["reaction"][33:61] == 1).all()
+    assert list(out["up"][60:64]) == [0, 0, 0, 0b011]
+    assert list(out["lo"][60:64]) == [0b111, 0, 0, 0b100]
+    assert out["reaction"][61] == 0 and out["active"][61] == 1
+    check_gate_safety(out["up"], out["lo"], 3, dead=np.full(cycles, 2))
+
+
+def test_asc_high_on_the_watchdog_inside_a_minimum_pulse_and_a_dead_time():
+    m = GateDriverModel(3, 3)
+    cycles = 60
+    # leg 0 upper and leg 1 lower commanded from 0; at 20 the reverse; minimum pulse 10
+    stim = updates_at(cycles, [0, 20], [0b001, 0b010])
+    stop = np.zeros(cycles, dtype=np.int64)
+    stop[25:40] = 1
+    out = run(m, cycles, dead=3, min_pulse=10, stop=stop, reaction_watchdog=2, **stim)
+    # before the stop: leg 0 upper on 4..20, lower on from 24 (dead time 21..23); leg 1 lower
+    # on 4..20, upper on from 24; leg 2 lower on from 4. Stop at 25 (ASC high): at 26 every
+    # lower switch is off (leg 0's inside its minimum pulse), leg 1's upper stays on; the upper
+    # ones of legs 0 and 2 turn on at 29 after three off clocks
+    assert list(out["up"][24:30]) == [0b010, 0b010, 0b010, 0b010, 0b010, 0b111]
+    assert list(out["lo"][24:30]) == [0b101, 0b101, 0, 0, 0, 0]
+    assert (out["reaction"][26:41] == 2).all() and out["reaction"][25] == 0
+    # stop low at 40 (the watchdog cleared): all off at 41
+    assert not (out["up"] | out["lo"])[41:].any()
+    check_gate_safety(out["up"], out["lo"], 3, dead=np.full(cycles, 3))
+
+
+@pytest.mark.parametrize(("first", "second", "f", "w", "expected"), [
+    ("fault", "stop", 1, 0, [1, 0]),      # a later source with all off ends the ASC
+    ("fault", "stop", 1, 2, [1, 1]),      # a later ASC does not change the one in force
+    ("stop", "fault", 1, 2, [2, 2]),
+    ("stop", "fault", 1, 0, [0, 0]),      # all off in force: a later ASC does not start
+    ("both", None, 1, 2, [1]),            # both in one clock: the fault's
+    ("both", None, 2, 0, [0]),            # ... unless the watchdog's is all off
+])
+def test_reaction_of_two_sources(first, second, f, w, expected):
+    m = GateDriverModel(3, 1)
+    cycles = 40
+    fault_in = np.zeros(cycles, dtype=np.int64)
+    stop = np.zeros(cycles, dtype=np.int64)
+    at = {"fault": (fault_in, 8), "stop": (stop, 10)}   # both seen by the driver at 10
+    if first == "both":
+        fault_in[8:], stop[10:] = 1, 1
+    else:
+        arr, t = at[first]
+        arr[t:] = 1
+        arr, t = at[second]
+        arr[t + 10:] = 1
+    out = run(m, cycles, fault_in=fault_in, stop=stop, reaction_fault=f, reaction_watchdog=w,
+              update=1, enable=1, h=0b101)
+    assert out["reaction"][11] == expected[0]
+    if len(expected) > 1:
+        assert out["reaction"][21] == expected[1] and out["reaction"][20] == expected[0]
+
+
+def test_reaction_writes_and_all_off_while_latched_and_asc_false():
+    cycles = 40
+    react = np.full(cycles, 1, dtype=np.int64)
+    react[15:] = 2                  # a new reaction while the fault is latched: ignored
+    out = run(GateDriverModel(3, 1), cycles, fault_in=pulse_at(cycles, 8), reaction_fault=react,
+              update=1, enable=1, h=0b101)
+    assert (out["reaction"][11:] == 1).all() and (out["lo"][13:] == 0b111).all()
+    for kwargs in ({"asc": False, "reaction_fault": 1}, {"asc": True, "reaction_fault": 3}):
+        m = GateDriverModel(3, 1, asc=kwargs.pop("asc"))
+        out = run(m, cycles, fault_in=pulse_at(cycles, 8), update=1, enable=1, h=0b101,
+                  **kwargs)
+        assert not out["reaction"].any() and not (out["up"] | out["lo"])[11:].any()
+
+
+def test_reset_ends_an_asc_and_a_still_active_fault_starts_it_again():
+    m = GateDriverModel(3, 2)
+    cycles = 40
+    fault_in = np.zeros(cycles, dtype=np.int64)
+    fault_in[8:] = 1
+    out = run(m, cycles, fault_in=fault_in, reaction_fault=1, rst=pulse_at(cycles, 20),
+              update=1, enable=1, h=0b101)
+    assert (out["lo"][13:21] == 0b111).all() and (out["reaction"][11:21] == 1).all()
+    # reset at 20: all off and reaction 0 at 21; the input (not reset) still high rises again
+    # at 21: every lower switch on at 23 after the dead time (off from 21: two clocks)
+    assert out["reaction"][21] == 0 and not out["lo"][21]
+    assert list(out["lo"][21:24]) == [0, 0, 0b111] and out["reaction"][22] == 1

@@ -74,8 +74,9 @@ def test_reset_values_and_read_only_registers():
 
 def test_info_word_flags():
     m = TopModel(5, 18, "exact_nearest", 3, upper_active_low=True, lower_active_low=False)
-    assert m.info == 5 | 18 << 5 | 1 << 11 | 1 << 12 | m.latency << 16 | 8 << 24 | 5 << 28
-    m = TopModel(3, 16, max_bits=0)
+    assert m.info == (5 | 18 << 5 | 1 << 11 | 1 << 12 | 1 << 14 | m.latency << 16 | 8 << 24
+                      | 5 << 28)
+    m = TopModel(3, 16, max_bits=0, asc=False)
     assert m.info == 3 | 16 << 5 | m.latency << 16 | 1 << 28
     assert TopModel(3, 16, max_bits=3).info >> 24 == 3 | 5 << 4
 
@@ -97,6 +98,8 @@ def test_max_bits_is_refused_by_name(max_bits):
     (regs.REF_BASE + 2, 0xFFFFFFFF, 0xFFFFFFFF), (regs.REF_BASE, 0x1234, 0x1234),
     (regs.REF_BASE + 2, -20000 & 0xFFFFFFFF, -20000 & 0xFFFFFFFF),
     (regs.REF_BASE + 3, 5, 0),            # beyond the phases: unmapped
+    (regs.FAULT_REACTION, 0b1001, 0b1001), (regs.FAULT_REACTION, 0b0110, 0b0110),
+    (regs.FAULT_REACTION, 0b1111, 0), (regs.FAULT_REACTION, 0xFFFFFFF7, 0b0100),
 ])
 def test_write_clamps(address, value, stored):
     bus = Master(TopModel(3, 16, dead_min=7))
@@ -239,6 +242,50 @@ def test_fault_clear_while_the_input_is_active_is_ignored():
     bus.run(4)
     bus.write(regs.CMD, regs.CMD_FAULT_CLEAR)
     assert bus.read(regs.STATUS) & (regs.STATUS_FAULT | regs.STATUS_FAULT_INPUT) == 3
+
+
+def test_fault_reaction_asc_low_then_all_off_then_clear_through_the_bus():
+    m = TopModel(3, 16, dead_min=2)
+    bus, _ = enable_and_run(m, 200)
+    bus.write(regs.FAULT_REACTION, 1 << regs.FAULT_REACTION_FAULT_SHIFT)
+    bus.tick(fault_in=1)
+    bus.run(6)
+    assert m.driver.up == 0 and m.driver.lo == 0b111
+    status = bus.read(regs.STATUS)
+    assert status >> regs.STATUS_REACTION_SHIFT == 1 and status & regs.STATUS_FAULT
+    bus.write(regs.FAULT_REACTION, 2 << regs.FAULT_REACTION_FAULT_SHIFT)   # not in force
+    assert bus.read(regs.STATUS) >> regs.STATUS_REACTION_SHIFT == 1 and m.driver.lo == 0b111
+    bus.write(regs.CMD, regs.CMD_ALL_OFF)
+    assert m.driver.up == 0 and m.driver.lo == 0
+    status = bus.read(regs.STATUS)
+    assert status & regs.STATUS_FAULT and not status & regs.STATUS_REACTION
+    bus.write(regs.CMD, regs.CMD_FAULT_CLEAR)
+    bus.run(40)
+    assert bus.read(regs.STATUS) & regs.STATUS_ACTIVE and bus.read(regs.GATES) != 0
+
+
+def test_fault_reaction_is_all_off_without_the_asc_built_in():
+    m = TopModel(3, 16, dead_min=2, asc=False)
+    bus, _ = enable_and_run(m, 200)
+    bus.write(regs.FAULT_REACTION, 0b0101)
+    assert bus.read(regs.FAULT_REACTION) == 0 and not bus.read(regs.INFO) & regs.INFO_ASC
+    bus.tick(fault_in=1)
+    bus.run(6)
+    assert m.driver.up == 0 and m.driver.lo == 0
+
+
+def test_fault_reaction_on_the_watchdog():
+    m = TopModel(3, 16, dead_min=2)
+    bus, _ = enable_and_run(m, 200)
+    bus.write(regs.FAULT_REACTION, 2 << regs.FAULT_REACTION_WATCHDOG_SHIFT)
+    bus.write(regs.WATCHDOG, 1)
+    bus.run(4 * m.latency + 8)
+    assert bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
+    assert m.driver.up == 0b111 and m.driver.lo == 0
+    assert bus.read(regs.STATUS) >> regs.STATUS_REACTION_SHIFT == 2
+    bus.write(regs.CMD, regs.CMD_WATCHDOG_CLEAR)
+    assert m.driver.up == 0 and m.driver.lo == 0
+    assert not bus.read(regs.STATUS) & regs.STATUS_REACTION
 
 
 def test_polarity_at_reset():

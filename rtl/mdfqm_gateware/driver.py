@@ -12,13 +12,18 @@ is unchanged):
   ``dead_min`` fixed at elaboration);
 - a synchronised fault turns every output off on the next clock, and stays latched until a
   clear while the input is inactive; so does ``stop`` (the top's watchdog latch) while high;
-- reset gives all off until an enable is taken at an update boundary.
+  under an active short circuit (the fault reaction ASC low / ASC high) every output but the
+  ASC switches (the lower / the upper ones) turns off on the next clock, and only those turn
+  on, each after the dead time; the reaction in force changes only to all off while a latch
+  is set, and an ASC ends through all off (every switch off on the next clock);
+- reset gives all off and the reaction all off; the gates stay off until an enable is taken at
+  an update boundary, or a latch with an ASC reaction is set.
 
 Polarity inversion is applied last, to registered signals.
 """
 
-from amaranth import Cat, Module, Mux, ResetSignal, Signal
-from amaranth.hdl import Assert, Cover
+from amaranth import C, Cat, Module, Mux, ResetSignal, Signal
+from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
@@ -32,10 +37,13 @@ __all__ = ["GateDriver", "LegDriver"]
 class LegDriver(wiring.Component):
     """One inverter leg: complementary upper/lower gates with dead time and minimum pulse.
 
-    The rules (:class:`mdfqm_model.driver.LegModel`): ``drive`` low turns both off on the next
-    clock; the on switch stays on while it is commanded; a switch that is no longer commanded
-    turns off once it has been on ``min_pulse`` clocks (shorter pulses are stretched); the
-    commanded switch turns on once both have been off ``dt_req`` clocks,
+    The rules (:class:`mdfqm_model.driver.LegModel`): ``asc_lo`` (``asc_hi``) high: the lower
+    (upper) switch is the ASC switch: it stays on if on, the other one turns off on the next
+    clock, and from both off the ASC switch turns on once both have been off ``dt_req`` clocks;
+    otherwise ``drive`` low turns both off on the next clock; the on switch stays on while it
+    is commanded; a switch that is no longer commanded turns off once it has been on
+    ``min_pulse`` clocks (shorter pulses are stretched); the commanded switch turns on once
+    both have been off ``dt_req`` clocks,
     ``dt_req = max(dt_run, max(dead, dead_min))``, ``dt_run`` the clamped dead time of the last
     cycle a switch was on (kept through reset: a dead time already running is never shortened,
     by a smaller ``dead`` or by a reset).
@@ -46,6 +54,9 @@ class LegDriver(wiring.Component):
         Commanded switch: 1 upper, 0 lower. Read in every cycle.
     drive : In(1)
         0: both switches off on the next clock (disable, fault). Read in every cycle.
+    asc_lo, asc_hi : In(1)
+        The active short circuit, low (the lower switch) or high (the upper one); never both.
+        Either overrides ``cmd`` and ``drive``. Read in every cycle.
     dead : In(time_width)
         Dead time in clocks; values below ``dead_min`` act as ``dead_min``. Read in every cycle;
         the leg acts on it one clock later (an input register).
@@ -65,17 +76,24 @@ class LegDriver(wiring.Component):
         Dead-time floor in clocks, fixed at elaboration.
     time_width : int in [2, 32]
         Width of ``dead``, ``min_pulse`` and the leg counter.
+    asc : bool
+        Build the active short circuit in; False: ``asc_lo`` and ``asc_hi`` are ignored (the
+        leg of a driver without it: the logic and the proofs as without the ports).
     formal : bool
         Emit the ``Assert``/``Cover`` statements of the safety properties.
     """
 
-    def __init__(self, dead_min: int, time_width: int = TIME_WIDTH, formal: bool = False):
+    def __init__(self, dead_min: int, time_width: int = TIME_WIDTH, asc: bool = True,
+                 formal: bool = False):
         self.time_width = validate_time_width(time_width)
         self.dead_min = validate_dead_min(dead_min, time_width)
+        self.asc = validate_bool(asc, "asc")
         self.formal = validate_bool(formal, "formal")
         super().__init__({
             "cmd": In(1),
             "drive": In(1),
+            "asc_lo": In(1),
+            "asc_hi": In(1),
             "dead": In(time_width),
             "min_pulse": In(time_width),
             "upper": Out(1),
@@ -112,12 +130,19 @@ class LegDriver(wiring.Component):
         # minimum pulse, else turned off; from off, the commanded switch turns on once the dead
         # time has elapsed
         keep = (self.upper & self.cmd) | (self.lower & ~self.cmd) | pulse_short
+        # an active short circuit: only its switch is kept, or turned on after the dead time
+        asc_lo, asc_hi = (self.asc_lo, self.asc_hi) if self.asc else (C(0, 1), C(0, 1))
+        asc = asc_lo | asc_hi
+        asc_keep = (self.upper & asc_hi) | (self.lower & asc_lo)
         m.d.comb += [
-            nxt_up.eq(self.drive & Mux(on, self.upper & keep, dead_elapsed & self.cmd)),
-            nxt_lo.eq(self.drive & Mux(on, self.lower & keep, dead_elapsed & ~self.cmd)),
+            nxt_up.eq(Mux(asc, asc_hi & Mux(on, self.upper, dead_elapsed),
+                          self.drive & Mux(on, self.upper & keep, dead_elapsed & self.cmd))),
+            nxt_lo.eq(Mux(asc, asc_lo & Mux(on, self.lower, dead_elapsed),
+                          self.drive & Mux(on, self.lower & keep, dead_elapsed & ~self.cmd))),
         ]
         # the next clock starts a new state (count 1): the on/off state changes
-        restart = rst | Mux(self.drive, Mux(on, ~keep, dead_elapsed), on)
+        restart = rst | Mux(asc, Mux(on, ~asc_keep, dead_elapsed),
+                            Mux(self.drive, Mux(on, ~keep, dead_elapsed), on))
 
         def decisions(c):
             """(dead_elapsed, pulse_short) of the next clock if its count is ``c``: dt_run
@@ -142,7 +167,7 @@ class LegDriver(wiring.Component):
             m.d.sync += dt_run.eq(dt)
 
         if self.formal:
-            self._properties(m, on, dt, (count - 1)[:tw], dt_run)
+            self._properties(m, on, dt, (count - 1)[:tw], dt_run, (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
             # soon as any of its inputs changes, before a comb signal has followed
             self._invariants(m, dt_expr, count, count_next, dt_run, dead_elapsed, pulse_short,
@@ -164,7 +189,7 @@ class LegDriver(wiring.Component):
                    "invariant: pulse_short is the minimum-pulse compare"),
         ]
 
-    def _properties(self, m, on, dt, cnt, dt_run):
+    def _properties(self, m, on, dt, cnt, dt_run, asc):
         """Safety properties, on ghost registers independent of the leg's own counter; the
         last two asserts are inductive invariants (they make k-induction converge at any
         ``time_width``)."""
@@ -176,6 +201,13 @@ class LegDriver(wiring.Component):
         drive_prev = Signal(init=1, reset_less=True)
         cmd_prev = Signal(reset_less=True)
         rst_prev = Signal(reset_less=True)
+        asc_lo_prev = Signal(reset_less=True)
+        asc_hi_prev = Signal(reset_less=True)
+        up_prev = Signal(reset_less=True)
+        lo_prev = Signal(reset_less=True)
+        # the leg's own off count and dead time in force a clock ago: when the ASC switch is
+        # due (the dead-time rule's own numbers; the turn-on asserts above bound it by the ghost)
+        due_prev = Signal(reset_less=True)
         gap_top = (1 << (tw + 1)) - 1
         m.d.sync += [
             gap.eq(Mux(on, 0, Mux(gap == gap_top, gap_top, gap + 1))),
@@ -184,7 +216,15 @@ class LegDriver(wiring.Component):
             drive_prev.eq(self.drive),
             cmd_prev.eq(self.cmd),
             rst_prev.eq(ResetSignal()),
+            asc_lo_prev.eq(asc[0]),
+            asc_hi_prev.eq(asc[1]),
+            up_prev.eq(self.upper),
+            lo_prev.eq(self.lower),
+            due_prev.eq(~on & (cnt + 1 >= dt) & (cnt + 1 >= dt_run)),
         ]
+        if self.asc:        # the driver never gives both
+            m.d.comb += Assume(~(self.asc_lo & self.asc_hi))
+        asc_prev = asc_lo_prev | asc_hi_prev
         with m.If(on):
             m.d.sync += need.eq(dt)
         turn_on = on & ~on_prev
@@ -193,10 +233,23 @@ class LegDriver(wiring.Component):
             Assert(~turn_on | ((gap >= need) & (gap >= dt_prev)),
                    "turn-on before the dead time in force elapsed"),
             Assert(~turn_on | (gap >= self.dead_min), "turn-on before the dead-time floor"),
-            Assert(drive_prev | ~on, "a switch on one clock after drive went low"),
+            Assert(drive_prev | asc_lo_prev | asc_hi_prev | ~on,
+                   "a switch on one clock after drive went low outside an ASC"),
             Assert(~rst_prev | ~on, "a switch on one clock after reset"),
-            Assert(~(self.upper & ~on_prev) | cmd_prev, "upper turned on while not commanded"),
-            Assert(~(self.lower & ~on_prev) | ~cmd_prev, "lower turned on while not commanded"),
+            Assert(~(self.upper & ~on_prev) | Mux(asc_prev, asc_hi_prev, cmd_prev),
+                   "upper turned on while not commanded"),
+            Assert(~(self.lower & ~on_prev) | Mux(asc_prev, asc_lo_prev, ~cmd_prev),
+                   "lower turned on while not commanded"),
+            Assert(~asc_lo_prev | rst_prev | ~self.upper, "an upper switch on in an ASC low"),
+            Assert(~asc_hi_prev | rst_prev | ~self.lower, "a lower switch on in an ASC high"),
+            Assert(~(asc_lo_prev & lo_prev) | rst_prev | self.lower,
+                   "the ASC low switch turned off while the ASC holds"),
+            Assert(~(asc_hi_prev & up_prev) | rst_prev | self.upper,
+                   "the ASC high switch turned off while the ASC holds"),
+            Assert(~(asc_lo_prev & due_prev) | rst_prev | self.lower,
+                   "the ASC low switch not on once the dead time elapsed"),
+            Assert(~(asc_hi_prev & due_prev) | rst_prev | self.upper,
+                   "the ASC high switch not on once the dead time elapsed"),
             Assert(self.event == turn_on, "event strobe is not the turn-on"),
             Assert(on | (cnt <= gap), "invariant: the leg's off count never exceeds the gap"),
             Assert(need == dt_run, "invariant: the remembered dead time is the ghost's"),
@@ -204,6 +257,9 @@ class LegDriver(wiring.Component):
             Cover(self.upper & ~on_prev),
             Cover(self.lower & ~on_prev),
         ]
+        if self.asc:
+            m.d.comb += [Cover(self.lower & ~on_prev & asc_lo_prev),
+                         Cover(self.upper & ~on_prev & asc_hi_prev)]
 
 
 class GateDriver(wiring.Component):
@@ -216,7 +272,12 @@ class GateDriver(wiring.Component):
     synchronised fault turns every output off on the next clock, latches, clears the taken
     enable, and is cleared by ``fault_clear`` only while the synchronised input is inactive;
     outputs then resume at the next update boundary with ``enable`` high. ``stop`` acts like
-    the fault latch without latching anything itself.
+    the fault latch without latching anything itself. The fault reaction (the model's "The
+    fault reaction"): when the gates leave normal operation (the first of the fault and
+    ``stop`` rises) the reaction in force becomes that source's (``reaction_fault`` /
+    ``reaction_watchdog``: 1 ASC low, 2 ASC high, else all off); while a source is high it can
+    only become all off (a rising source whose reaction is all off, or ``all_off``); with both
+    low it is all off. A leg leaving an ASC is off for a clock before anything turns on again.
 
     Ports
     -----
@@ -237,8 +298,13 @@ class GateDriver(wiring.Component):
         Clears the fault latch in a cycle where the synchronised input is low.
     stop : In(1)
         Synchronous stop (the top's watchdog latch, registered there): while high, every output
-        turns off on the next clock and the taken enable is cleared, as on a fault. Read in
-        every cycle.
+        turns off on the next clock and the taken enable is cleared, as on a fault (the fault
+        reaction, below). Read in every cycle.
+    reaction_fault, reaction_watchdog : In(2)
+        The reaction to the fault and to ``stop``: 1 ASC low, 2 ASC high, 0 and 3 all off (and
+        every value when ``asc`` is False). Read in the cycle a source rises.
+    all_off : In(1)
+        Strobe: the reaction in force becomes all off (every switch off on the next clock).
     upper, lower : Out(phases)
         Gate pins, registered, after the polarity of each side (``*_active_low``). Reset: every
         switch off (pin level 1 for an active-low side).
@@ -260,6 +326,9 @@ class GateDriver(wiring.Component):
         The enable taken at the last update boundary and not cleared by a fault (registered).
     up, lo : Out(phases)
         The gates in the active-high domain (registered; before polarity).
+    reaction : Out(2)
+        The reaction in force (registered, reset 0): the one that decided this cycle's gates;
+        0 all off or none, 1 ASC low, 2 ASC high.
 
     Parameters
     ----------
@@ -268,11 +337,13 @@ class GateDriver(wiring.Component):
         As :class:`LegDriver`.
     upper_active_low, lower_active_low : bool
         Pin polarity of each side, fixed at elaboration so that the reset level is safe.
+    asc : bool
+        Build the active short circuit in; False: every reaction is all off (``reaction`` 0).
     """
 
     def __init__(self, phases: int, dead_min: int, time_width: int = TIME_WIDTH,
                  upper_active_low: bool = False, lower_active_low: bool = False,
-                 formal: bool = False):
+                 asc: bool = True, formal: bool = False):
         if isinstance(phases, bool) or not isinstance(phases, int) or phases < 1:
             raise ValueError(f"phases must be an integer >= 1, not {phases!r}")
         self.phases = phases
@@ -280,6 +351,7 @@ class GateDriver(wiring.Component):
         self.dead_min = validate_dead_min(dead_min, time_width)
         self.upper_active_low = validate_bool(upper_active_low, "upper_active_low")
         self.lower_active_low = validate_bool(lower_active_low, "lower_active_low")
+        self.asc = validate_bool(asc, "asc")
         self.formal = validate_bool(formal, "formal")
         super().__init__({
             "h": In(phases),
@@ -290,6 +362,9 @@ class GateDriver(wiring.Component):
             "fault_in": In(1),
             "fault_clear": In(1),
             "stop": In(1),
+            "reaction_fault": In(2),
+            "reaction_watchdog": In(2),
+            "all_off": In(1),
             "upper": Out(phases),
             "lower": Out(phases),
             "event": Out(phases),
@@ -300,6 +375,7 @@ class GateDriver(wiring.Component):
             "active": Out(1),
             "up": Out(phases),
             "lo": Out(phases),
+            "reaction": Out(2),
         })
 
     def elaborate(self, platform):
@@ -325,15 +401,19 @@ class GateDriver(wiring.Component):
             drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop),
         ]
         m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
+        now = self._reaction(m, fault_active)
 
         legs = []
         for i in range(n):
-            leg = LegDriver(self.dead_min, self.time_width, formal=self.formal)
+            leg = LegDriver(self.dead_min, self.time_width, asc=self.asc, formal=self.formal)
             m.submodules[f"leg{i}"] = leg
             legs.append(leg)
             m.d.comb += [
                 leg.cmd.eq(cmd[i]),
-                leg.drive.eq(drive),
+                # a leg leaving an ASC (the reaction of the last clock) is off for a clock
+                leg.drive.eq(drive & (self.reaction == 0)),
+                leg.asc_lo.eq(now == 1),
+                leg.asc_hi.eq(now == 2),
                 leg.dead.eq(self.dead),
                 leg.min_pulse.eq(self.min_pulse),
             ]
@@ -356,7 +436,83 @@ class GateDriver(wiring.Component):
 
         if self.formal:
             self._properties(m, up, lo)
+            self._reaction_properties(m, up, lo, fault_active)
         return m
+
+    def _code(self, reaction):
+        """A source's reaction input as acted on: 1 and 2 as they are, 0 and 3 all off."""
+        return Mux((reaction == 1) | (reaction == 2), reaction, 0)
+
+    def _reaction(self, m, fault_active):
+        """The reaction of this clock (``now``), registered into ``reaction``."""
+        now = Signal(2)
+        if not self.asc:
+            return now                      # all off only: nothing to latch
+        fault_prev = Signal()
+        stop_prev = Signal()
+        f, w = self._code(self.reaction_fault), self._code(self.reaction_watchdog)
+        rise_f = fault_active & ~fault_prev
+        rise_w = self.stop & ~stop_prev
+        kill = (~(fault_active | self.stop) | self.all_off | (rise_f & (f == 0))
+                | (rise_w & (w == 0)))
+        m.d.comb += now.eq(Mux(kill, 0, Mux(fault_prev | stop_prev, self.reaction,
+                                            Mux(rise_f, f, w))))
+        m.d.sync += [self.reaction.eq(now), fault_prev.eq(fault_active),
+                     stop_prev.eq(self.stop)]
+        return now
+
+    def _reaction_properties(self, m, up, lo, fault_active):
+        """The fault reaction: only the ASC switches on while a latch is set (every switch
+        off on the next clock after a latch rises but those); the reaction in force set only
+        when the gates leave normal operation, to the rising source's reaction, and changed
+        after that only to all off; an ASC left through all off; all off after reset, after
+        CMD.ALL_OFF and with no latch set. On ghost registers, not the reaction's own."""
+        ones = (1 << self.phases) - 1
+        ghost = {name: Signal(width, reset_less=True, name=f"formal_{name}") for name, width in (
+            ("stopped", 1), ("stopped2", 1), ("fault", 1), ("code_f", 2), ("code_w", 2),
+            ("all_off", 1), ("reaction", 2), ("clear", 1), ("clear2", 1), ("rst", 1))}
+        rst = ResetSignal()
+        stopped = fault_active | self.stop
+        m.d.sync += [
+            ghost["stopped"].eq(stopped & ~rst), ghost["stopped2"].eq(ghost["stopped"]),
+            ghost["fault"].eq(fault_active), ghost["code_f"].eq(self._code(self.reaction_fault)),
+            ghost["code_w"].eq(self._code(self.reaction_watchdog)),
+            ghost["all_off"].eq(self.all_off), ghost["reaction"].eq(self.reaction),
+            ghost["clear"].eq(self.fault_clear), ghost["clear2"].eq(ghost["clear"]),
+            ghost["rst"].eq(rst),
+        ]
+        r, r_prev, rst_prev = self.reaction, ghost["reaction"], ghost["rst"]
+        gates_off = (up == 0) & (lo == 0)
+        # the switches that may be on while a latch was set in the clock before
+        only_asc = (((up & Mux(r == 2, 0, ones)) == 0) & ((lo & Mux(r == 1, 0, ones)) == 0))
+        entered = (r != 0) & (r_prev == 0)
+        m.d.comb += [
+            Assert(r != 3, "a reaction in force that is no reaction"),
+            Assert(~ghost["stopped"] | only_asc,
+                   "a switch other than the ASC ones on a clock after a latch was set"),
+            Assert(ghost["stopped"] | (r == 0) | rst_prev,
+                   "a reaction in force a clock after no latch was set"),
+            Assert(~rst_prev | (r == 0), "the reaction in force not all off after reset"),
+            Assert(~entered | (~ghost["stopped2"] & (r == Mux(ghost["fault"], ghost["code_f"],
+                                                                ghost["code_w"]))),
+                   "an ASC entered other than when the gates left normal operation, or not "
+                   "the rising source's"),
+            Assert((r_prev == 0) | (r == 0) | (r == r_prev) | rst_prev,
+                   "an ASC changed to the other one"),
+            Assert(~((r_prev != 0) & (r == 0)) | gates_off,
+                   "an ASC left other than through all off"),
+            Assert(~(ghost["all_off"] & ghost["stopped"]) | rst_prev | ((r == 0) & gates_off),
+                   "a switch on a clock after ALL_OFF while a latch was set"),
+        ]
+        if not self.asc:
+            m.d.comb += Assert(r == 0, "an ASC without the ASC built in")
+            return
+        m.d.comb += [
+            Cover((r == 1) & (lo == ones)),
+            Cover((r == 2) & (up == ones)),
+            Cover((r_prev != 0) & (r == 0) & ghost["all_off"]),
+            Cover((r_prev != 0) & (r == 0) & ghost["clear2"] & ~ghost["all_off"] & ~self.stop),
+        ]
 
     def _properties(self, m, up, lo):
         input_prev = Signal(reset_less=True)
@@ -388,10 +544,14 @@ class GateDriver(wiring.Component):
             Assert((pin_up & pin_lo) == 0, "both switches of a leg on at the pins"),
             Assert(~rst_before | ((pin_up == 0) & (pin_lo == 0)), "pins not off after reset"),
         ]
+        # under an ASC its switches may be on (the reaction's own properties bound them)
+        r = self.reaction
+        off_but_asc = (((up & Mux(r == 2, 0, ones)) == 0) & ((lo & Mux(r == 1, 0, ones)) == 0))
         m.d.comb += [
-            Assert(~input_prev | all_off, "gates on one clock after the synchronised fault"),
-            Assert(~stop_prev | all_off, "gates on one clock after stop"),
-            Assert(~(self.fault & fault_prev) | all_off, "gates on while the fault is latched"),
+            Assert(~input_prev | off_but_asc, "gates on one clock after the synchronised fault"),
+            Assert(~stop_prev | off_but_asc, "gates on one clock after stop"),
+            Assert(~(self.fault & fault_prev) | off_but_asc,
+                   "gates on while the fault is latched"),
             Assert(~input_prev | rst_prev | self.fault, "synchronised fault not latched"),
             Assert(~fault_prev | rst_prev | self.fault | (clear_prev & ~input_prev),
                    "fault latch cleared without a clear while the input was inactive"),

@@ -44,6 +44,14 @@ def _saturate(value, top: int):
     return Mux(value[k:].any(), top, value[:k])
 
 
+def _only_asc(driver):
+    """Every switch off but those of the active short circuit in force (none when the
+    reaction in force is all off)."""
+    ones = (1 << len(driver.up)) - 1
+    r = driver.reaction
+    return ((driver.up & Mux(r == 2, 0, ones)) == 0) & ((driver.lo & Mux(r == 1, 0, ones)) == 0)
+
+
 def _saturate_code(value, contract):
     """A bus word (two's complement) clamped to the contract's reference codes, the full
     ``width``-bit signed range: in range exactly when the bits from ``width - 1`` up are all
@@ -119,6 +127,9 @@ class MdfqmTop(wiring.Component):
         The register bus's front.
     counter_width : int in [8, 32]
         Bits of the switching counters (they wrap at ``2**counter_width``).
+    asc : bool
+        Build the active short circuit in (``FAULT_REACTION`` codes 1 and 2, ``INFO.ASC``);
+        False: the only fault reaction is all off (those codes store 0).
     max_bits : int, 0 or in [1, min(12, width - 2)]; default min(8, width - 2)
         Largest resolution b of the slot modes (SVPWM, DPWM0, DPWM1, DPWM: ``2**b`` slots per
         update). 0 builds the MDFQM-only top (the core alone, the smallest): ``MODULATION``
@@ -139,8 +150,9 @@ class MdfqmTop(wiring.Component):
                  dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, bus: str = "wishbone",
                  counter_width: int = regmap.COUNTER_WIDTH,
-                 max_bits: int | None = None, formal: bool = False):
+                 max_bits: int | None = None, asc: bool = True, formal: bool = False):
         validate_top_phases(phases)
+        self.asc = validate_bool(asc, "asc")
         self.bus = validate_bus(bus)
         self.counter_width = validate_int(counter_width, "counter_width", 8,
                                           regmap.COUNTER_WIDTH)
@@ -183,7 +195,7 @@ class MdfqmTop(wiring.Component):
         assert core.latency == self.latency
         m.submodules.driver = driver = GateDriver(
             n, self.dead_min, TIME_WIDTH, self.upper_active_low, self.lower_active_low,
-            formal=self.formal)
+            asc=self.asc, formal=self.formal)
         if self.bus == "wishbone":
             m.submodules.front = front = WishboneFront(regmap.ADDR_WIDTH, formal=self.formal)
             wiring.connect(m, wiring.flipped(self.wb), front.bus)
@@ -213,16 +225,19 @@ class MdfqmTop(wiring.Component):
         bits_request = Signal(BITS_WIDTH)
         wd_timeout = Signal(16)
         wd_trips = Signal(16)
+        reaction_fault = Signal(2)
+        reaction_watchdog = Signal(2)
         adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
         adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
         # ---------------------------------------------------------------- register port
-        cmd = Signal(4)
-        m.d.comb += cmd.eq(Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:4], 0))
+        cmd = Signal(5)
+        m.d.comb += cmd.eq(Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:5], 0))
         ref_commit = cmd[0]
         fault_clear = cmd[1]
         count_clear = cmd[2]
         watchdog_clear = cmd[3]
+        all_off = cmd[4]
 
         word = port.w_data
 
@@ -248,6 +263,10 @@ class MdfqmTop(wiring.Component):
         with m.If(written(regmap.MODULATION)):
             m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
+        if self.asc:        # else both read 0: every reaction is all off; 3 stores 0 (v % 3)
+            with m.If(written(regmap.FAULT_REACTION)):
+                m.d.sync += [reaction_fault.eq(Mux(word[0:2] == 3, 0, word[0:2])),
+                             reaction_watchdog.eq(Mux(word[2:4] == 3, 0, word[2:4]))]
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
                 m.d.sync += ref_regs[i].eq(_saturate_code(word, c))
@@ -261,9 +280,10 @@ class MdfqmTop(wiring.Component):
                                                        wd_trips, watchdog_clear, count_clear)
         rd = Signal(32)
         status = Cat(driver.fault, driver.fault_input, driver.active, ref_pending,
-                     core.saturated, core.period_clamped, mode_clamped, wd_tripped)
+                     core.saturated, core.period_clamped, mode_clamped, wd_tripped,
+                     driver.reaction)
         info = info_word(n, self.width, self.rule, self.upper_active_low,
-                         self.lower_active_low, self.latency, self.max_bits)
+                         self.lower_active_low, self.latency, self.max_bits, asc=self.asc)
         with m.Switch(port.r_adr):
             with m.Case(regmap.ID):
                 m.d.comb += rd.eq(regmap.ID_VALUE)
@@ -297,6 +317,8 @@ class MdfqmTop(wiring.Component):
                 m.d.comb += rd.eq(wd_timeout)
             with m.Case(regmap.WATCHDOG_TRIPS):
                 m.d.comb += rd.eq(wd_trips)
+            with m.Case(regmap.FAULT_REACTION):
+                m.d.comb += rd.eq(Cat(reaction_fault, reaction_watchdog))
             with m.Case(regmap.MODULATION):
                 m.d.comb += rd.eq((mode_in_force << regmap.MODULATION_MODE_SHIFT)
                                   | (bits_in_force << regmap.MODULATION_BITS_SHIFT))
@@ -335,6 +357,9 @@ class MdfqmTop(wiring.Component):
             driver.fault_in.eq(self.fault_in),
             driver.fault_clear.eq(fault_clear),
             driver.stop.eq(wd_tripped),
+            driver.reaction_fault.eq(reaction_fault),
+            driver.reaction_watchdog.eq(reaction_watchdog),
+            driver.all_off.eq(all_off),
             self.upper.eq(driver.upper),
             self.lower.eq(driver.lower),
             self.fault.eq(driver.fault),
@@ -374,6 +399,8 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver, (events, total, count_clear), irq_formal)
+            m.d.comb += Assert((reaction_fault != 3) & (reaction_watchdog != 3),
+                               "FAULT_REACTION holds a code that is no reaction")
             self._watchdog_properties(m, core.start, arrival, wd_timeout, (wd_tripped, wd_quiet,
                                       wd_trips), (watchdog_clear, count_clear), driver)
             if self.max_bits:
@@ -445,13 +472,14 @@ class MdfqmTop(wiring.Component):
         m.d.sync += [trips_prev.eq(trips), count_clear_prev.eq(count_clear)]
         kept = Mux(count_clear_prev, 0, trips_prev)
         rose = tripped & ~tripped_prev
-        all_off = (driver.up == 0) & (driver.lo == 0)
+        all_off = _only_asc(driver)
         m.d.comb += [
             Assert(~rst_prev | (trips == 0), "WATCHDOG_TRIPS is not 0 after reset"),
             Assert(rst_prev | (trips == Mux(rose & (kept != 0xFFFF), kept + 1, kept)),
                    "WATCHDOG_TRIPS is not the saturating count of watchdog trips"),
             Cover(rose & count_clear_prev),
-            Assert(~tripped_prev | all_off, "gates on a clock after the watchdog latch"),
+            Assert(~tripped_prev | all_off,
+                   "gates on a clock after the watchdog latch (but the ASC switches)"),
             Assert(~tripped_prev | tripped | clear_prev | rst_prev,
                    "watchdog latch cleared without CMD.WATCHDOG_CLEAR"),
             Assert(tripped_prev | ~tripped | (start_prev & armed_prev),
@@ -490,7 +518,9 @@ class MdfqmTop(wiring.Component):
                      rst_prev.eq(ResetSignal())]
         all_off = (driver.up == 0) & (driver.lo == 0)
         m.d.comb += [
-            Assert(enabled_since_reset | all_off | rst_prev, "gates on before any enable"),
+            # before any enable only a fault reaction's ASC switches may be on
+            Assert(enabled_since_reset | _only_asc(driver) | rst_prev,
+                   "gates on before any enable (but the ASC switches)"),
             Assert(enabled_since_reset | ~driver.active | rst_prev,
                    "invariant: active before any enable"),
             Assert(dead >= self.dead_min, "DEAD below the floor"),

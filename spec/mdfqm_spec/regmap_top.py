@@ -17,6 +17,8 @@ __all__ = [
     "ADC_OFFSET",
     "ADDR_WIDTH",
     "CMD",
+    "CMD_ALL_OFF",
+    "CMD_ALL_OFF_SHIFT",
     "CMD_COUNT_CLEAR",
     "CMD_COUNT_CLEAR_SHIFT",
     "CMD_FAULT_CLEAR",
@@ -36,6 +38,12 @@ __all__ = [
     "DEAD_MIN",
     "EVENTS_BASE",
     "EVENTS_TOTAL",
+    "FAULT_REACTION",
+    "FAULT_REACTION_FAULT",
+    "FAULT_REACTION_FAULT_SHIFT",
+    "FAULT_REACTION_MASK",
+    "FAULT_REACTION_WATCHDOG",
+    "FAULT_REACTION_WATCHDOG_SHIFT",
     "GATES",
     "GATES_LOWER",
     "GATES_LOWER_SHIFT",
@@ -44,6 +52,8 @@ __all__ = [
     "GATES_UPPER_SHIFT",
     "ID",
     "INFO",
+    "INFO_ASC",
+    "INFO_ASC_SHIFT",
     "INFO_LATENCY",
     "INFO_LATENCY_SHIFT",
     "INFO_LOWER_ACTIVE_LOW",
@@ -108,6 +118,8 @@ __all__ = [
     "STATUS_MODE_CLAMPED_SHIFT",
     "STATUS_PERIOD_CLAMPED",
     "STATUS_PERIOD_CLAMPED_SHIFT",
+    "STATUS_REACTION",
+    "STATUS_REACTION_SHIFT",
     "STATUS_REF_PENDING",
     "STATUS_REF_PENDING_SHIFT",
     "STATUS_SATURATED",
@@ -136,6 +148,7 @@ PARAMETERS = {
     "max_bits": 8,
     "latency": 8,
     "modes": 5,
+    "asc": True,
 }
 #: word-address bits of the bus: the fewest that hold every register
 ADDR_WIDTH = 6
@@ -161,6 +174,7 @@ REF_BASE = 0x10
 EVENTS_BASE = 0x20
 WATCHDOG = 0x30
 WATCHDOG_TRIPS = 0x31
+FAULT_REACTION = 0x32
 
 # INFO fields
 INFO_PHASES = 0x0000001F
@@ -173,13 +187,15 @@ INFO_UPPER_ACTIVE_LOW = 0x00001000
 INFO_UPPER_ACTIVE_LOW_SHIFT = 12
 INFO_LOWER_ACTIVE_LOW = 0x00002000
 INFO_LOWER_ACTIVE_LOW_SHIFT = 13
+INFO_ASC = 0x00004000
+INFO_ASC_SHIFT = 14
 INFO_LATENCY = 0x00FF0000
 INFO_LATENCY_SHIFT = 16
 INFO_MAX_BITS = 0x0F000000
 INFO_MAX_BITS_SHIFT = 24
 INFO_MODES = 0xF0000000
 INFO_MODES_SHIFT = 28
-INFO_MASK = 0xFFFF3FFF
+INFO_MASK = 0xFFFF7FFF
 
 # CTRL fields
 CTRL_ENABLE = 0x00000001
@@ -197,7 +213,9 @@ CMD_COUNT_CLEAR = 0x00000004
 CMD_COUNT_CLEAR_SHIFT = 2
 CMD_WATCHDOG_CLEAR = 0x00000008
 CMD_WATCHDOG_CLEAR_SHIFT = 3
-CMD_MASK = 0x0000000F
+CMD_ALL_OFF = 0x00000010
+CMD_ALL_OFF_SHIFT = 4
+CMD_MASK = 0x0000001F
 
 # STATUS fields
 STATUS_FAULT = 0x00000001
@@ -216,7 +234,9 @@ STATUS_MODE_CLAMPED = 0x00000040
 STATUS_MODE_CLAMPED_SHIFT = 6
 STATUS_WATCHDOG = 0x00000080
 STATUS_WATCHDOG_SHIFT = 7
-STATUS_MASK = 0x000000FF
+STATUS_REACTION = 0x00000300
+STATUS_REACTION_SHIFT = 8
+STATUS_MASK = 0x000003FF
 
 # GATES fields
 GATES_UPPER = 0x0000FFFF
@@ -268,6 +288,13 @@ WATCHDOG_TRIPS_TRIPS = 0x0000FFFF
 WATCHDOG_TRIPS_TRIPS_SHIFT = 0
 WATCHDOG_TRIPS_MASK = 0x0000FFFF
 
+# FAULT_REACTION fields
+FAULT_REACTION_FAULT = 0x00000003
+FAULT_REACTION_FAULT_SHIFT = 0
+FAULT_REACTION_WATCHDOG = 0x0000000C
+FAULT_REACTION_WATCHDOG_SHIFT = 2
+FAULT_REACTION_MASK = 0x0000000F
+
 #: every register, in address order
 REGISTERS = (
     {
@@ -303,6 +330,8 @@ REGISTERS = (
              "reset": "upper_active_low"},
             {"name": "LOWER_ACTIVE_LOW", "lsb": 13, "width": 1, "access": "r",
              "reset": "lower_active_low"},
+            {"name": "ASC", "lsb": 14, "width": 1, "access": "r", "reset": "asc",
+             "doc": "1 = the active short circuit is built in (FAULT_REACTION codes 1 and 2)"},
             {"name": "LATENCY", "lsb": 16, "width": 8, "access": "r", "reset": "latency",
              "doc": "loop latency L (MDFQM updates)"},
             {"name": "MAX_BITS", "lsb": 24, "width": 4, "access": "r", "reset": "max_bits",
@@ -344,7 +373,7 @@ REGISTERS = (
         "name": "CMD",
         "offset": 0x04,
         "access": "W",
-        "width": 4,
+        "width": 5,
         "reset": "0",
         "clamp": "",
         "doc": (
@@ -371,13 +400,16 @@ REGISTERS = (
                 ),
                 "singlepulse": True,
             },
+            {"name": "ALL_OFF", "lsb": 4, "width": 1, "access": "w", "reset": 0,
+             "doc": "move the fault reaction in force to all off (the latches stay set)",
+             "singlepulse": True},
         ),
     },
     {
         "name": "STATUS",
         "offset": 0x05,
         "access": "R",
-        "width": 8,
+        "width": 10,
         "reset": "0",
         "clamp": "",
         "doc": "status. SATURATED and PERIOD_CLAMPED are the core's flags of its last update.",
@@ -404,7 +436,9 @@ REGISTERS = (
                 ),
             },
             {"name": "WATCHDOG", "lsb": 7, "width": 1, "access": "r", "reset": 0,
-             "doc": "the watchdog latch: tripped (gates off) until CMD.WATCHDOG_CLEAR"},
+             "doc": "the watchdog latch: tripped (fault reaction) until CMD.WATCHDOG_CLEAR"},
+            {"name": "REACTION", "lsb": 8, "width": 2, "access": "r", "reset": 0,
+             "doc": "the fault reaction in force: 0 none or all off, 1 ASC low, 2 ASC high"},
         ),
     },
     {
@@ -617,8 +651,8 @@ REGISTERS = (
             "reference watchdog timeout (update starts). 0: off (the reset value). Otherwise the "
             "update starts allowed without a new reference (a beat accepted on the ref port, or a "
             "CMD.REF_COMMIT write): the next update start without one trips the watchdog "
-            "(STATUS.WATCHDOG; every gate off two clocks after that start, as on a fault, until "
-            "CMD.WATCHDOG_CLEAR). docs/top.md, Reference watchdog."
+            "(STATUS.WATCHDOG; the fault reaction from two clocks after that start, as on a fault, "
+            "until CMD.WATCHDOG_CLEAR). docs/top.md, Reference watchdog."
         ),
         "count": 1,
         "fields": (
@@ -637,6 +671,29 @@ REGISTERS = (
         "count": 1,
         "fields": (
             {"name": "TRIPS", "lsb": 0, "width": 16, "access": "r", "reset": 0},
+        ),
+    },
+    {
+        "name": "FAULT_REACTION",
+        "offset": 0x32,
+        "access": "RW",
+        "width": 4,
+        "reset": "0",
+        "clamp": "FAULT: v % 4 % 3 * asc; WATCHDOG: v % 4 % 3 * asc",
+        "doc": (
+            "fault reaction per source. What the gates do while a latch is set: 0 all off (the "
+            "reset value), 1 active short circuit low (the lower switches on), 2 active short "
+            "circuit high (the upper ones on); 3, or 1 and 2 without the active short circuit "
+            "built in (INFO.ASC 0), store 0. Taken when the gates leave normal operation: a later "
+            "write does not change a reaction in force (STATUS.REACTION). docs/top.md, Fault "
+            "reaction."
+        ),
+        "count": 1,
+        "fields": (
+            {"name": "FAULT", "lsb": 0, "width": 2, "access": "rw", "reset": 0,
+             "clamp": "v % 4 % 3 * asc", "doc": "reaction to the fault latch"},
+            {"name": "WATCHDOG", "lsb": 2, "width": 2, "access": "rw", "reset": 0,
+             "clamp": "v % 4 % 3 * asc", "doc": "reaction to the watchdog latch"},
         ),
     },
 )

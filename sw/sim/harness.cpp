@@ -1,6 +1,7 @@
 // Runs the C driver (sw/mdfqm_driver.c) against the Verilated drop-in top mdfqm_top_n3_w16,
 // through a Wishbone shim, as firmware would on a CPU: init, timing, interrupt-driven reference
-// updates, a fault and its clear, counters. Every clock it logs the top's inputs and outputs,
+// updates, a fault with an active short circuit low as its reaction, CMD.ALL_OFF, the clear,
+// counters. Every clock it logs the top's inputs and outputs,
 // and each driver result; tb/test_c_driver.py replays the inputs through the golden model and
 // compares every output of every clock, then checks the driver's results.
 //
@@ -107,8 +108,11 @@ int main(int argc, char **argv) {
     mdfqm_t dev;
     mdfqm_bus_t bus = {bus_read, bus_write, &sim};
     int ok = mdfqm_init(&dev, bus);
-    std::fprintf(sim.log, "INIT %d %u %u %u %u %u %u\n", ok, dev.phases, dev.width, dev.latency,
-                 dev.dead_min, dev.max_bits, dev.modes);
+    std::fprintf(sim.log, "INIT %d %u %u %u %u %u %u %d\n", ok, dev.phases, dev.width,
+                 dev.latency, dev.dead_min, dev.max_bits, dev.modes, dev.asc);
+    // a motor above the back-EMF threshold: the fault pin's reaction is ASC low, the watchdog's
+    // stays all off
+    mdfqm_set_fault_reaction(&dev, MDFQM_SOURCE_FAULT, MDFQM_REACTION_ASC_LOW);
     mdfqm_set_period(&dev, 60);
     mdfqm_set_osr(&dev, 2);
     mdfqm_set_dead_time(&dev, 70);
@@ -125,6 +129,7 @@ int main(int argc, char **argv) {
     double angle = 0.0;
     unsigned samples = 0, faults = 0, skipped = 0, watchdogs = 0;
     bool fault_pending_clear = false, switched = false, watchdog_pending_clear = false;
+    bool asc_ended = false;
     for (unsigned long t = 0; sim.cycle < 40000; t++) {
         if (!switched && sim.cycle >= 10000 && dev.max_bits >= 3) {
             mdfqm_set_modulation(&dev, MDFQM_MODE_SVPWM, 3);   // SVPWM at b = 3 from here on
@@ -161,6 +166,13 @@ int main(int argc, char **argv) {
             mdfqm_clear_watchdog(&dev);
             std::fprintf(sim.log, "WATCHDOG_CLEAR\n");
             watchdog_pending_clear = false;
+        } else if (fault_pending_clear && !asc_ended && sim.cycle > 20500) {
+            // the speed has fallen below the threshold: from ASC to all off, the latch kept
+            mdfqm_reaction_t before = mdfqm_reaction_in_force(&dev);
+            mdfqm_fault_all_off(&dev);
+            mdfqm_reaction_t after = mdfqm_reaction_in_force(&dev);
+            std::fprintf(sim.log, "ASC %d %d\n", (int)before, (int)after);
+            asc_ended = true;
         } else if (fault_pending_clear && sim.cycle > 21000) {
             bool clear = mdfqm_clear_fault(&dev);
             std::fprintf(sim.log, "CLEAR %d\n", clear);

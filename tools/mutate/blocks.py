@@ -93,10 +93,11 @@ def _generator_runs(seed: int, cycles: int = 30_000) -> list[Run]:
 #: the driver's configuration: three legs, both pin polarities (the upper side active low),
 #: the dead-time floor and width of the driver's own proof (tb/test_formal.py)
 DRIVER = {"phases": 3, "dead_min": 5, "time_width": 16, "upper_active_low": True,
-          "lower_active_low": False}
+          "lower_active_low": False, "asc": True}
 #: tb/test_driver.py's cocotb tests, in their order, with their lengths
 DRIVER_SCENARIOS = (("random", 12000), ("fault_chatter", 4000), ("fault_in_dead_time", 3000),
-                    ("enable_mid_update", 3000), ("dead_change", 4000), ("min_pulse", 4000))
+                    ("enable_mid_update", 3000), ("dead_change", 4000), ("min_pulse", 4000),
+                    ("fault_reaction", 8000))
 
 
 def _driver_runs(seed: int) -> list[Run]:
@@ -125,7 +126,7 @@ def _driver_runs(seed: int) -> list[Run]:
         carried = test_driver.CARRY["model"]
         model = copy.deepcopy(carried) if carried is not None else GateDriverModel(
             p["phases"], p["dead_min"], p["time_width"], p["upper_active_low"],
-            p["lower_active_low"])
+            p["lower_active_low"], p["asc"])
         last = test_driver.CARRY["last"] or {name: 0 for name in DRIVER_INPUTS}
         for _ in range(2):               # harness.start: rst high two clocks, inputs held
             inputs = {**last, "rst": 1}
@@ -161,7 +162,8 @@ def _top_tests(bus: str) -> tuple[CocotbTest, ...]:
            "dead_min": regmap.DEFAULT_DEAD_MIN, "upper_active_low": False,
            "lower_active_low": False, "bus": bus, "counter_width": regmap.COUNTER_WIDTH}
     singles = ("top_operate", "top_register_reference", "top_counters", "top_adc_trigger",
-               "top_fault", "top_interrupt", "top_watchdog", "top_bad_input")
+               "top_fault", "top_fault_reaction", "top_interrupt", "top_watchdog",
+               "top_bad_input")
     return (CocotbTest("test_top", "mdfqm_top",
                        {**top, "max_bits": regmap.default_max_bits(16)}, singles),
             CocotbTest("test_bus_models", "mdfqm_top_bus_models", top))
@@ -191,7 +193,7 @@ def _blocks() -> dict[str, Block]:
               "gate_driver",
               lambda formal: GateDriver(d["phases"], d["dead_min"], d["time_width"],
                                         d["upper_active_low"], d["lower_active_low"],
-                                        formal=formal),
+                                        asc=d["asc"], formal=formal),
               _driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
         Block("top_wb", "top, Wishbone (MdfqmTop, the drop-in mdfqm_top_n3_w16)", "mdfqm_top",
               lambda formal: MdfqmTop(3, 16, formal=formal),

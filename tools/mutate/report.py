@@ -54,13 +54,14 @@ def _section(path: str, start: str, end: str) -> set[str]:
 
 def regions() -> dict[str, set[str]]:
     """The logic with a 100 % target, as sets of source lines (found by their text, so they
-    follow the source): the fault path (every line that names a fault, and the fault input's
-    synchroniser) and the register file's write decode (the top's register-port section, the
-    fronts' write side)."""
+    follow the source): the fault path (every line that names a fault, the fault reaction or
+    the active short circuit, and the fault input's synchroniser) and the register file's write
+    decode (the top's register-port section, the fronts' write side)."""
     fault, decode = set(), set()
+    names = re.compile(r"fault|reaction|\basc(_|\b)")
     for path in ("rtl/mdfqm_gateware/driver.py", "rtl/mdfqm_gateware/top.py"):
         for i, text in enumerate((ROOT / path).read_text().splitlines(), 1):
-            if "fault" in text.lower() and not text.strip().startswith("#"):
+            if names.search(text.lower()) and not text.strip().startswith("#"):
                 fault.add(f"{path}:{i}")
     fault.add("amaranth/lib/cdc.py:*")       # the fault input's synchroniser (its only use)
     decode |= _section("rtl/mdfqm_gateware/top.py", "-- register port",

@@ -129,6 +129,9 @@ ROWS = {
     "enable toggled in the middle of an update": {
         "driver": ("rtl/mdfqm_gateware/driver.py", r"drive\.eq\(Mux\(self\.update, self\.enable",
                    ANY, None)},
+    "a fault or a watchdog trip with an active short circuit chosen": {
+        "driver": ("rtl/mdfqm_gateware/driver.py",
+                   r"m\.d\.comb \+= now\.eq\(Mux\(kill|kill = \(~\(fault_active", ANY, None)},
     "the controller stops sending references (watchdog)": {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"trip\.eq\(\(timeout != 0\)", ANY, None)},
 }

@@ -129,6 +129,11 @@ def test_the_regions_with_a_full_target_are_found_in_the_source():
     assert any("fronts.py" in line for line in zones["register write decode"])
     assert any("top.py" in line for line in zones["register write decode"])
     assert any("driver.py" in line for line in zones["fault path"])
+    # the fault reaction's logic: the reaction in force and the legs' active short circuit
+    lines = {report.line_text(line) for line in zones["fault path"]}
+    assert any("kill = (~(fault_active | self.stop)" in text for text in lines)
+    assert any(text.startswith("asc_keep = ") for text in lines)
+    assert any("leg.asc_lo.eq(now == 1)" in text for text in lines)
     assert report.in_region({"src": ["amaranth/lib/cdc.py:102"]}, zones["fault path"])
     assert not report.in_region({"src": ["amaranth/lib/cdc.py:102"]},
                                 zones["register write decode"])

@@ -202,7 +202,7 @@ CONFIGS = [
     {},
     {"phases": 5, "width": 18, "rule": "exact_nearest", "dead_min": 7, "upper_active_low": True,
      "lower_active_low": False, "counter_width": 16},
-    {"max_bits": 0},
+    {"max_bits": 0, "asc": False},
 ]
 
 
@@ -267,7 +267,7 @@ def test_rdl_clamps_are_the_models(compiled, config):
                 assert _access(model, address, 0) == want, (node.inst_name, hex(word))
         checked.add(node.inst_name)
     assert {"CTRL", "PERIOD", "OSR", "DEAD", "MIN_PULSE", "ADC_OFFSET", "IRQ_ENABLE",
-            "REF"} <= checked
+            "REF", "FAULT_REACTION"} <= checked
 
 
 def test_clamps_are_checked_expressions():
