@@ -19,7 +19,8 @@ from test_c_driver import NAME, replay_clock_log, top_params
 
 from harness import ROOT, verilator_build_env
 from mdfqm_drive.control import Encoder, FocController, Tuning
-from mdfqm_drive.firmware_loop import FirmwareLoop, build
+from mdfqm_drive.fault import fault_case, rpm_for_emf_ratio, short_circuit_current
+from mdfqm_drive.firmware_loop import FirmwareLoop, build, rtl_fault_case
 from mdfqm_drive.loop import ClosedLoop
 from mdfqm_drive.modulator import IpModulator, IpSettings
 from mdfqm_drive.motors import MOTORS, Load
@@ -132,13 +133,13 @@ def test_the_speed_step_through_the_rtl_follows_the_model_path(runs):
 def test_bus_traffic_per_control_period(runs):
     """docs/drive.md: per control period the firmware reads IRQ_STATUS once and writes it once
     (the acknowledge), writes REF[0..2] and CMD.REF_COMMIT; its initialisation reads ID, INFO,
-    DEAD_MIN and CTRL twice, and writes nine registers."""
+    DEAD_MIN, CTRL twice and FAULT_REACTION, and writes ten registers."""
     _, _, counters, _ = runs
     periods = counters["periods"]
     init_reads = counters["bus_reads"] - periods
     init_writes = counters["bus_writes"] - 5 * periods
     assert periods == counters["irqs"] and periods >= DURATION * F_C - 2
-    assert (init_reads, init_writes) == (5, 9)
+    assert (init_reads, init_writes) == (6, 10)
 
 
 def test_the_docs_example_runs(library, monkeypatch):
@@ -155,3 +156,27 @@ def test_the_docs_example_runs(library, monkeypatch):
     counters = drive.counters()
     assert counters["missed"] == 0 and counters["steps"] == len(trace.t) >= 240
     assert trace.w_m[-1] > trace.w_m[0]      # the step is being taken
+
+
+@pytest.mark.parametrize("reaction", ["off", "asc_low", "asc_high"])
+def test_the_fault_reaction_reaches_the_motor(library, reaction):
+    """docs/top.md's fault reaction, set by the firmware, seen by the motor: held by a dyno at
+    1.3x the speed where its line-to-line back-EMF peak reaches the bus, the fault pin raised
+    after 5 ms. Every gate off: the diodes feed the bus and brake, as the plant alone does from
+    the same speed (docs/drive.md, "Fault reaction: the plant"); an active short circuit: no
+    bus current, the shorted machine's steady currents, the peak below psi_f / L_d."""
+    motor = MOTORS["hurst_x5"]
+    rpm = rpm_for_emf_ratio(motor, 1.3)
+    got = rtl_fault_case(library, motor, settings(), rpm, reaction, before=0.005, after=0.03)
+    assert got.asc_exit is None and got.rpm_end == pytest.approx(rpm)
+    if reaction == "off":
+        alone = fault_case(motor, rpm, reaction="off", duration=0.1)
+        assert got.i_dc_mean < 0 and got.torque_mean < 0
+        assert got.i_dc_mean == pytest.approx(alone.i_dc_mean, rel=0.03)
+        assert got.torque_mean == pytest.approx(alone.torque_mean, rel=0.03)
+    else:
+        steady = short_circuit_current(motor, rpm)
+        assert got.i_dc_mean == 0.0
+        assert got.i_d_mean == pytest.approx(steady.real, rel=0.02)
+        assert got.i_q_mean == pytest.approx(steady.imag, rel=0.02)
+        assert got.i_peak < motor.psi_f / motor.L_d

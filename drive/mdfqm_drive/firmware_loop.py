@@ -27,6 +27,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from mdfqm_spec.contract import Contract
 from mdfqm_spec.regmap import DEFAULT_DEAD_MIN
 
@@ -36,7 +38,8 @@ from .modulator import IpSettings
 from .motors import Load, Motor
 from .plant import DcBus, Plant
 
-__all__ = ["FirmwareLoop", "RtlSource", "build", "case_loop", "default_sw_dir", "firmware_cost"]
+__all__ = ["REACTIONS", "FirmwareLoop", "RtlFaultResult", "RtlSource", "build", "case_loop",
+           "default_sw_dir", "firmware_cost", "rtl_fault_case"]
 
 WIDTH = 16
 TOP = f"mdfqm_top_n3_w{WIDTH}"
@@ -129,7 +132,9 @@ class _Config(ctypes.Structure):
         (n, ctypes.c_uint32) for n in ("decoupling", "delay_compensation", "encoder_counts")] + [
         ("adc_lsb", ctypes.c_float), ("average", ctypes.c_uint32), ("f_clk", ctypes.c_float)] + [
         (n, ctypes.c_uint32) for n in ("period", "osr", "dead", "min_pulse", "adc_offset",
-                                       "mode", "bits", "fewest_transitions")]
+                                       "mode", "bits", "fewest_transitions",
+                                       "fault_reaction")] + [
+        ("asc_exit_speed", ctypes.c_float)]
 
 
 _LIBS: dict[str, ctypes.CDLL] = {}
@@ -183,7 +188,9 @@ def case_loop(case, library: Path) -> FirmwareLoop:
 
 
 COUNTERS = ("cycle", "first_update", "bus_reads", "bus_writes", "bus_clocks", "irqs",
-            "periods", "steps", "missed", "faults", "watchdogs")
+            "periods", "steps", "missed", "faults", "watchdogs", "all_off_sent")
+#: FAULT_REACTION's codes (docs/top.md, "Fault reaction")
+REACTIONS = {"off": 0, "asc_low": 1, "asc_high": 2}
 
 
 class FirmwareLoop:
@@ -192,13 +199,20 @@ class FirmwareLoop:
     ``ClosedLoop``'s (the IP's registers from ``settings``; ``width`` 16, three phases: the
     ``mdfqm_top_n3_w16`` drop-in). Currents are measured in-line (the firmware's one topology).
     ``log`` / ``log_clocks``: write the first clocks' pins and bus for a clock-by-clock check.
+    ``fault_reaction`` (a key of :data:`REACTIONS`) the firmware sets for the fault pin;
+    ``asc_exit_rpm``: the speed below which the firmware ends an active short circuit (0:
+    never).
     """
 
     def __init__(self, library: Path, motor: Motor, settings: IpSettings,
                  load: Load | None = None, bus: DcBus | None = None,
                  tuning: Tuning | None = None, measurement: Measurement | None = None,
                  encoder: Encoder | None = None, w_m0: float = 0.0,
-                 log: Path | None = None, log_clocks: int = 0, plant_class=Plant):
+                 log: Path | None = None, log_clocks: int = 0, plant_class=Plant,
+                 fault_reaction: str = "off", asc_exit_rpm: float = 0.0):
+        if fault_reaction not in REACTIONS:
+            raise ValueError(f"fault_reaction must be one of {sorted(REACTIONS)}, "
+                             f"not {fault_reaction!r}")
         self.measurement = measurement if measurement is not None else Measurement()
         if self.measurement.adc.topology != "inline":
             raise ValueError("FirmwareLoop measures in-line currents only (the firmware's "
@@ -223,7 +237,9 @@ class FirmwareLoop:
             period=settings.period, osr=settings.osr, dead=settings.dead,
             min_pulse=settings.min_pulse, adc_offset=settings.adc_offset,
             mode=MODE_CODES[settings.mode], bits=settings.bits,
-            fewest_transitions=int(settings.zero_policy))
+            fewest_transitions=int(settings.zero_policy),
+            fault_reaction=REACTIONS[fault_reaction],
+            asc_exit_speed=asc_exit_rpm * 2 * math.pi / 60)
         if self.lib.fil_init(self.handle, ctypes.byref(cfg), w_m0) != 0:
             raise RuntimeError("the firmware's initialisation failed (not a 3-phase mdfqm IP?)")
         self.cycle = 0
@@ -283,8 +299,10 @@ class FirmwareLoop:
 
     def run(self, duration: float, w_ref: Callable[[float], float],
             progress: Callable[[float], None] | None = None,
-            record_from: float = math.inf) -> Trace:
-        """As :meth:`ClosedLoop.run`: ``duration`` seconds, speed reference ``w_ref(t)``."""
+            record_from: float = math.inf,
+            on_sample: Callable[[Plant], None] | None = None) -> Trace:
+        """As :meth:`ClosedLoop.run`: ``duration`` seconds, speed reference ``w_ref(t)``;
+        ``on_sample(plant)`` at every ADC trigger (the plant advanced to it)."""
         self.record_from = record_from
         lib, handle, plant, tr = self.lib, self.handle, self.plant, self.trace
         adc = self.measurement.adc
@@ -300,6 +318,8 @@ class FirmwareLoop:
                 self._advance_to(end)
                 break
             self._advance_to(trigger.value)
+            if on_sample is not None:
+                on_sample(plant)
             codes_in[:] = [adc.code(i) for i in plant.phase_currents()]
             count = self.encoder.read(plant.theta_m)
             t = plant.t
@@ -330,3 +350,81 @@ class FirmwareLoop:
         if plant.t >= self.record_from:
             self._record()
         return tr
+
+
+@dataclass(frozen=True)
+class RtlFaultResult:
+    """What :func:`rtl_fault_case` measures after the fault (signs as
+    :class:`mdfqm_drive.fault.FaultResult`'s: ``i_dc_mean`` out of the bus, negative when the
+    motor charges it; ``torque_mean`` negative when it brakes). Means over whole periods of the
+    six-pulse ripple within the last half of the run after the fault; ``asc_exit`` the seconds
+    from the fault to the firmware's end of the active short circuit (None: it did not end),
+    ``rpm_at_exit`` the true speed then."""
+
+    reaction: str
+    rpm: float
+    u_dc0: float
+    u_dc_end: float
+    u_dc_max: float
+    i_dc_mean: float
+    torque_mean: float
+    i_peak: float
+    i_d_mean: float
+    i_q_mean: float
+    rpm_end: float
+    asc_exit: float | None
+    rpm_at_exit: float | None
+    psi_over_ld: float
+
+
+def rtl_fault_case(library: Path, motor: Motor, settings: IpSettings, speed_rpm: float,
+                   reaction: str, held: bool = True, bus: DcBus | None = None,
+                   before: float = 0.02, after: float = 0.1, asc_exit_rpm: float = 0.0,
+                   load: Load | None = None) -> RtlFaultResult:
+    """The drive through the firmware and the RTL at ``speed_rpm``, imposed by a dyno (the
+    controller asked for that speed), for ``before`` seconds; then the fault pin goes active
+    and stays so for ``after`` seconds, the IP's ``reaction`` (:data:`REACTIONS`) set by the
+    firmware. ``held``: the dyno keeps the speed after the fault (else the shaft is free, its
+    inertia the motor's and ``load``'s); ``asc_exit_rpm``: the firmware ends an active short
+    circuit below that speed."""
+    w = speed_rpm * 2 * math.pi / 60
+    loop = FirmwareLoop(library, motor, settings, load=load, bus=bus, w_m0=w,
+                        fault_reaction=reaction, asc_exit_rpm=asc_exit_rpm)
+    try:
+        loop.plant.speed_locked = True
+        loop.run(before, lambda t: w)
+        loop.set_fault(True)
+        loop.plant.speed_locked = held
+        t_fault, u_dc0 = loop.plant.t, loop.plant.u_dc
+        rows = []
+        shorted = [False, None, None]
+
+        def sample(plant):
+            if loop.pins in ((0, 7), (7, 0)):     # every lower, or every upper, switch on
+                shorted[0] = True
+            elif shorted[0] and shorted[1] is None:
+                shorted[1], shorted[2] = plant.t - t_fault, plant.w_m * 60 / (2 * math.pi)
+            rows.append((plant.t, plant.u_dc, plant.torque(), plant.i_d, plant.i_q,
+                         max(abs(i) for i in plant.phase_currents()), plant.energy_dc,
+                         plant.w_m))
+
+        loop.plant.i_peak = 0.0
+        loop.run(after, lambda t: w, on_sample=sample)
+        data = np.array(rows)
+        # whole periods of the six-pulse ripple (the diode bridge's) in the last half
+        ripple = 1 / (3 * motor.n_p * abs(w) / math.pi) if w else after
+        span = max(math.floor(0.5 * after / ripple), 1) * ripple
+        window = data[data[:, 0] >= data[-1, 0] - min(span, 0.5 * after)]
+        t = window[:, 0]
+        u_int = np.trapezoid(window[:, 1], t)
+        return RtlFaultResult(
+            reaction=reaction, rpm=speed_rpm, u_dc0=u_dc0, u_dc_end=loop.plant.u_dc,
+            u_dc_max=float(data[:, 1].max()),
+            i_dc_mean=float((window[-1, 6] - window[0, 6]) / u_int),
+            torque_mean=float(np.trapezoid(window[:, 2], t) / (t[-1] - t[0])),
+            i_peak=float(max(data[:, 5].max(), loop.plant.i_peak)),
+            i_d_mean=float(np.mean(window[:, 3])), i_q_mean=float(np.mean(window[:, 4])),
+            rpm_end=loop.plant.w_m * 60 / (2 * math.pi), asc_exit=shorted[1],
+            rpm_at_exit=shorted[2], psi_over_ld=motor.psi_f / motor.L_d)
+    finally:
+        loop.close()

@@ -36,6 +36,7 @@ int mdfqm_foc_init(mdfqm_foc_t *foc, mdfqm_bus_t bus, const mdfqm_foc_config_t *
     mdfqm_set_adc_offset(dev, cfg->adc_offset);
     mdfqm_set_zero_policy(dev, cfg->fewest_transitions != 0);
     mdfqm_set_modulation(dev, cfg->mode, cfg->bits);
+    mdfqm_set_fault_reaction(dev, MDFQM_SOURCE_FAULT, (mdfqm_reaction_t)cfg->fault_reaction);
     mdfqm_irq_enable(dev, MDFQM_TOP__IRQ_ENABLE__SAMPLE_bm | MDFQM_TOP__IRQ_ENABLE__FAULT_bm
                               | MDFQM_TOP__IRQ_ENABLE__WATCHDOG_bm);
     mdfqm_enable(dev, true);
@@ -50,8 +51,10 @@ void mdfqm_foc_irq(mdfqm_foc_t *foc) {
         foc->period_started = true;
         foc->periods++;
     }
-    if (causes.fault)
+    if (causes.fault) {
         foc->faults++;
+        foc->faulted = true;
+    }
     if (causes.watchdog)
         foc->watchdogs++;
 }
@@ -153,6 +156,14 @@ bool mdfqm_foc_adc(mdfqm_foc_t *foc, const int32_t adc[3], int32_t encoder_count
     if (!foc->period_started)
         return false;
     foc->period_started = false;
+    if (foc->faulted) {
+        float w = track_speed(foc, encoder_count);
+        if (!foc->all_off_sent && fabsf(w) < foc->cfg.asc_exit_speed) {
+            mdfqm_fault_all_off(&foc->dev);
+            foc->all_off_sent = true;
+        }
+        return false;
+    }
     measure_currents(foc);
     control_step(foc, encoder_count, u_dc, w_ref);
     return true;

@@ -10,7 +10,8 @@
  *
  * Two entry points, as on a microcontroller:
  *  - mdfqm_foc_irq() on the IP's irq line: the SAMPLE interrupt starts a control period (the
- *    IP has just taken the last reference); FAULT and WATCHDOG are counted;
+ *    IP has just taken the last reference); a FAULT stops the control law (the IP's fault
+ *    reaction holds the gates), WATCHDOG is counted;
  *  - mdfqm_foc_adc() when the phase-current ADC, started by the IP's adc_trigger pin, has
  *    converted: the sample is kept; the first conversion after a SAMPLE interrupt runs the
  *    control law and writes the next reference, which the IP takes at its next sampling tick
@@ -48,6 +49,11 @@ typedef struct {
     /* the IP: clock (Hz) and the registers the firmware sets */
     float f_clk;
     uint32_t period, osr, dead, min_pulse, adc_offset, mode, bits, fewest_transitions;
+    /* the reaction to the fault pin (mdfqm_reaction_t: all off, ASC low, ASC high), and the
+     * speed (rad/s) below which the firmware ends an active short circuit (CMD.ALL_OFF);
+     * 0: it never does */
+    uint32_t fault_reaction;
+    float asc_exit_speed;
 } mdfqm_foc_config_t;
 
 typedef struct {
@@ -66,12 +72,15 @@ typedef struct {
     /* what the last control step computed (for a debugger or a trace) */
     float i_q_ref, i_d_meas, i_q_meas;
     int32_t codes[3];
+    /* a fault seen: the control law stops, the speed is still tracked */
+    bool faulted, all_off_sent;
     /* bookkeeping */
     uint32_t periods, steps, missed, faults, watchdogs;
 } mdfqm_foc_t;
 
 /* Identifies the IP, programs PERIOD, OSR, DEAD, MIN_PULSE, ADC_OFFSET, MODULATION, the zero
- * policy and the interrupts (SAMPLE, FAULT, WATCHDOG), and enables the gates. The speed
+ * policy, the fault pin's reaction and the interrupts (SAMPLE, FAULT, WATCHDOG), and enables
+ * the gates. The speed
  * estimate starts at w_m0 (rad/s). Returns 0, or -1 (not an mdfqm IP; a three-phase IP with
  * width >= 4 needed; osr above MDFQM_FOC_MAX_OSR). */
 int mdfqm_foc_init(mdfqm_foc_t *foc, mdfqm_bus_t bus, const mdfqm_foc_config_t *cfg,
@@ -82,7 +91,9 @@ void mdfqm_foc_irq(mdfqm_foc_t *foc);
 
 /* A conversion is complete: adc[3] the phase-current codes (signed, adc_lsb amps each),
  * encoder_count the encoder latched with it, u_dc the bus voltage (V), w_ref the speed
- * reference (rad/s). Returns true when it ran the control law and wrote a reference. */
+ * reference (rad/s). Returns true when it ran the control law and wrote a reference. After a
+ * fault it only tracks the speed, once per control period, and ends an active short circuit
+ * below asc_exit_speed. */
 bool mdfqm_foc_adc(mdfqm_foc_t *foc, const int32_t adc[3], int32_t encoder_count, float u_dc,
                    float w_ref);
 

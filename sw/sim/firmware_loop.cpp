@@ -216,13 +216,14 @@ void fil_set_fault(void *handle, int level) {
 }
 
 // Counters: cycle, first update start, bus reads, bus writes, clocks in bus accesses,
-// interrupts served, firmware periods, control steps, missed periods, faults, watchdogs.
+// interrupts served, firmware periods, control steps, missed periods, faults, watchdogs, and
+// whether the firmware ended an active short circuit.
 void fil_counters(void *handle, uint64_t *out) {
     const Loop *loop = static_cast<Loop *>(handle);
     const mdfqm_foc_t &foc = loop->foc;
     uint64_t values[] = {loop->cycle, loop->first_sync, loop->bus_reads, loop->bus_writes,
                          loop->bus_clocks, loop->irqs, foc.periods, foc.steps, foc.missed,
-                         foc.faults, foc.watchdogs};
+                         foc.faults, foc.watchdogs, foc.all_off_sent ? 1u : 0u};
     for (size_t k = 0; k < sizeof values / sizeof values[0]; k++)
         out[k] = values[k];
 }
