@@ -737,9 +737,7 @@ def fault_document(meta: dict) -> list[str]:
     add(_table(("case", "DC current A (alone)", "torque Nm (alone)", "i_d / i_q A",
                 "peak phase current A", "ASC ended after", "rpm at the end"), rows))
     add("")
-    runs = {label.split(",")[0]: r for label, r, _ in meta["faults"]}
-    off, asc = runs["every gate off"], runs["ASC low"]
-    free = meta["faults"][-1][1]
+    (_, off, _), (_, asc, _), _, (_, free, _) = meta["faults"]
     harder = "harder" if abs(asc.torque_mean) > abs(off.torque_mean) else "less"
     peak = "below" if asc.i_peak < asc.psi_over_ld else "above"
     add("The DC current is out of the bus (negative: the diodes feed it); the torque is the "
@@ -748,10 +746,12 @@ def fault_document(meta: dict) -> list[str]:
         f"circuit keeps the bus out of it and brakes {harder} ({-asc.torque_mean:.3f} Nm: the "
         "winding's resistance is large against its reactance at this speed), its peak current "
         f"{asc.i_peak:.2f} A, {peak} psi_f / L_d. Without the dyno the short circuit brakes the "
-        "shaft; the firmware's speed estimate (its tracking loop at 4 alpha_s) lags the "
-        f"braking, so the short circuit it ends below {ASC_EXIT * fault.threshold_rpm(motor):.0f} "
-        + (f"rpm ended at {free.rpm_at_exit:.0f} rpm in truth."
-           if free.asc_exit is not None else "rpm did not end within the run."))
+        "shaft, and the firmware ends it once its speed estimate is below "
+        f"{ASC_EXIT * fault.threshold_rpm(motor):.0f} rpm; the estimate (the tracking loop at "
+        "4 alpha_s) lags the braking, "
+        + (f"so the true speed then was {free.rpm_at_exit:.0f} rpm (the rows' zero means: the "
+           "shaft coasting without current after it)."
+           if free.asc_exit is not None else "and within the run it did not end."))
     add("")
     return L
 

@@ -33,7 +33,7 @@ from mdfqm_spec.contract import Contract
 from mdfqm_spec.regmap import DEFAULT_DEAD_MIN
 
 from .control import Encoder, Tuning
-from .loop import Measurement, Trace, _turn_ons
+from .loop import ClosedLoop, Measurement, Trace
 from .modulator import IpSettings
 from .motors import Load, Motor
 from .plant import DcBus, Plant
@@ -278,24 +278,9 @@ class FirmwareLoop:
             if n < _EDGE_ROOM:
                 return
 
-    def _advance_to(self, cycle: int) -> None:
-        plant, f = self.plant, self.source.f_clk
-        while self.edges and self.edges[0][0] <= cycle:
-            at, up, lo = self.edges.popleft()
-            plant.advance((at - self.cycle) / f, *self.pins)
-            self.cycle = at
-            self.trace.events += _turn_ons(self.pins, (up, lo))
-            self.pins = (up, lo)
-            if plant.t >= self.record_from:
-                self._record()
-        plant.advance((cycle - self.cycle) / f, *self.pins)
-        self.cycle = cycle
-
-    def _record(self) -> None:
-        tr = self.trace
-        tr.wave_t.append(self.plant.t)
-        tr.wave_i.append(self.plant.phase_currents())
-        tr.wave_pins.append(self.pins)
+    # the plant follows the recorded pin changes exactly as the model path's loop does
+    _advance_to = ClosedLoop._advance_to
+    _record = ClosedLoop._record
 
     def run(self, duration: float, w_ref: Callable[[float], float],
             progress: Callable[[float], None] | None = None,
