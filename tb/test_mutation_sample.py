@@ -81,14 +81,14 @@ SAMPLE = {
          "pin polarity"),
         ("rtl/mdfqm_gateware/driver.py:373 top $mux#2 S[0] const0",
          "two events in one clock"),
-        ("rtl/mdfqm_gateware/driver.py:425 top $mux#0 Y[1] cnot1/0",
+        ("rtl/mdfqm_gateware/driver.py:427 top $mux#0 Y[1] cnot1/0",
          "row: a slot shorter than the dead time plus the minimum pulse"),
         ("rtl/mdfqm_gateware/driver.py:401 top $mux#0 S[0] const1",
          "row: enable toggled in the middle of an update"),
         # chosen among the 11 of 12 candidates at the reaction's lines that the driver's
         # stimulus kills (seed 7): a second source whose reaction is all off no longer ends an
         # active short circuit
-        ("rtl/mdfqm_gateware/driver.py:456 top $or#2 B[0] const0",
+        ("rtl/mdfqm_gateware/driver.py:458 top $or#2 B[0] const0",
          "row: a fault or a watchdog trip with an active short circuit chosen"),
     ],
     "top_wb": [

@@ -402,6 +402,8 @@ class GateDriver(wiring.Component):
         ]
         m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
         now = self._reaction(m, fault_active)
+        asc_lo, asc_hi = Signal(), Signal()     # the reaction of this clock, one-hot
+        m.d.comb += [asc_lo.eq(now == 1), asc_hi.eq(now == 2)]
 
         legs = []
         for i in range(n):
@@ -412,8 +414,8 @@ class GateDriver(wiring.Component):
                 leg.cmd.eq(cmd[i]),
                 # a leg leaving an ASC (the reaction of the last clock) is off for a clock
                 leg.drive.eq(drive & (self.reaction == 0)),
-                leg.asc_lo.eq(now == 1),
-                leg.asc_hi.eq(now == 2),
+                leg.asc_lo.eq(asc_lo),
+                leg.asc_hi.eq(asc_hi),
                 leg.dead.eq(self.dead),
                 leg.min_pulse.eq(self.min_pulse),
             ]
