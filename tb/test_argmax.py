@@ -7,10 +7,10 @@ output on every clock, latency argmax_stages(count)."""
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start
 from mdfqm_gateware.selector import ArgMax
 from mdfqm_model.update import select
 from mdfqm_spec.contract import argmax_stages
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start
 
 CASES = [(3, 8), (17, 6)]            # one stage; two stages with a partial group
 

@@ -9,13 +9,13 @@ model (CoreModel)."""
 import cocotb
 import pytest
 
-from bbit_stimulus import generate, generate_core
-from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.integrator import Integrator
 from mdfqm_gateware.resolution import Quantiser, SlotLayout
 from mdfqm_gateware.sequencer import UpdateSequencer
 from mdfqm_spec.contract import Contract, loop_latency, resolution_latency
+from mdfqm_testkit.bbit_stimulus import generate, generate_core
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 CASES = [(3, 16, "largest_duty", 8), (5, 16, "exact_nearest", 6)]
 

@@ -1,5 +1,5 @@
-"""The gating-signal generator through the vector-file path (tb/vectors.py: no Python per
-cycle), >= 2*10**5 checked cycles, every output every cycle against GeneratorModel: every
+"""The gating-signal generator through the vector-file path (tb/mdfqm_testkit/vectors.py: no
+Python per cycle), >= 2*10**5 checked cycles, every output every cycle against GeneratorModel: every
 scenario of bbit_stimulus (each mode, random switches, overmodulation, extreme codes) with b
 anywhere in [1, max_bits]; and the ``limits`` scenario long enough for an update at the
 largest period."""
@@ -9,11 +9,11 @@ import random
 
 import pytest
 
-from bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate, tie_codes
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec.contract import Contract
-from vectors import VectorBench
+from mdfqm_testkit.bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate, tie_codes
+from mdfqm_testkit.vectors import VectorBench
 
 
 def run_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario, seed):

@@ -1,7 +1,7 @@
 # amaranth: UnusedElaboratable=no
 """UART -> Wishbone bridge on its byte streams, every output on every clock, against
-tb/demo_models.py: BridgeModel, with a Wishbone slave with random wait states and an unmapped
-range, and a host that follows (and breaks) mdfqm_spec.bridge."""
+tb/mdfqm_testkit/demo_models.py: BridgeModel, with a Wishbone slave with random wait states and
+an unmapped range, and a host that follows (and breaks) mdfqm_spec.bridge."""
 
 import cocotb
 import pytest
@@ -14,10 +14,10 @@ from demo.bridge import UartBridge
 from demo.bus_master import BusSequencer
 from demo.register_bank import RegisterBank
 from demo.wishbone import WishboneDecoder, WishboneSignature
-from demo_models import ArbiterModel, BridgeModel, SequencerModel
-from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_spec import bridge as proto
 from mdfqm_spec.regmap import DEMO
+from mdfqm_testkit.demo_models import ArbiterModel, BridgeModel, SequencerModel
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 CASES = [(16, 5, 40), (16, 64, 300), (8, 3, 25)]
 OUTPUTS = {"rx__ready": "rx_ready", "tx__valid": "tx_valid", "tx__payload": "tx_payload",

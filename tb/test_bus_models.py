@@ -30,11 +30,11 @@ from typing import ClassVar
 import cocotb
 import pytest
 from cocotb.triggers import ReadOnly, RisingEdge
-from test_top import COMMON_INPUTS, COMMON_OUTPUTS, make_model, port_name
 
-from harness import pack, params, run_block, seeded_rng, start
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec import regmap as regs
+from mdfqm_testkit.harness import pack, params, run_block, seeded_rng, start
+from mdfqm_testkit.top_bench import COMMON_INPUTS, COMMON_OUTPUTS, make_model, port_name
 from tools.regmap_gen import clamp_value
 
 #: (phases, width, rule, dead_min, bus); the drop-in configuration and a five-phase one

@@ -15,26 +15,15 @@ import shutil
 import subprocess
 
 import pytest
-from test_top import make_model
 
-from harness import ROOT, verilator_build_env
 from mdfqm_gateware.dropin import default_configs, dropin_verilog
 from mdfqm_spec import regmap as regs
+from mdfqm_testkit.clock_log import NAME, replay_clock_log, top_params
+from mdfqm_testkit.harness import ROOT, verilator_build_env
+from mdfqm_testkit.top_bench import make_model
 
-NAME = "mdfqm_top_n3_w16"
 SW = ROOT / "sw"
-OUTPUTS = ("wb_dat_r", "wb_ack", "ref_ready", "upper", "lower", "adc_trigger", "sync_out",
-           "fault", "irq")
 CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
-
-
-def top_params():
-    factory = dict(default_configs(3, 16))[NAME]
-    top = factory()
-    top._MustUse__used = True     # only its parameters are read here
-    return top, {k: getattr(top, k) for k in ("phases", "width", "rule", "dead_min",
-                                               "upper_active_low", "lower_active_low", "bus",
-                                               "counter_width", "max_bits")}
 
 
 @pytest.fixture(scope="module")
@@ -66,29 +55,6 @@ def run_log(tmp_path_factory):
 
 def test_driver_compiles_as_c99_with_every_warning_an_error(run_log):
     assert run_log        # the fixture compiled it with CFLAGS (a warning fails it there)
-
-
-def replay_clock_log(lines, params):
-    """Step a fresh golden model through the inputs of every ``C`` line of a harness log (the
-    format of sw/sim/harness.cpp) and assert that every output of every clock equals the
-    model's; returns the model and the number of clocks checked."""
-    model = make_model(params)
-    width, checked = params["width"], 0
-    for line in lines:
-        if not line.startswith("C "):
-            continue
-        f = [int(v, 16) for v in line.split()[1:]]
-        cycle = int(line.split()[1])
-        (rst, cyc, stb, we, adr, dat_w, sel, ref_valid, payload, fault_in, sync_in), got = \
-            f[1:12], dict(zip(OUTPUTS, f[12:], strict=True))
-        ref = [(payload >> (i * width)) & ((1 << width) - 1) for i in range(params["phases"])]
-        out = model.step(rst=rst, ref_valid=ref_valid, ref=ref, fault_in=fault_in,
-                         sync_in=sync_in, wb_cyc=cyc, wb_stb=stb, wb_we=we, wb_adr=adr,
-                         wb_dat_w=dat_w, wb_sel=sel)
-        want = {k: out[k] for k in OUTPUTS}
-        assert got == want, f"clock {cycle}: RTL {got}, model {want}"
-        checked += 1
-    return model, checked
 
 
 def test_every_clock_equals_the_model(run_log):

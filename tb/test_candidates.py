@@ -7,10 +7,10 @@ rules: every output on every clock, one clock of latency."""
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.selector import Candidates
 from mdfqm_model.update import candidates
 from mdfqm_spec.contract import Contract
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 CASES = [(3, 16, "largest_duty"), (5, 12, "exact_nearest")]
 

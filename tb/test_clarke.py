@@ -5,9 +5,9 @@ gaps on the input and back-pressure on the output."""
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.clarke import InverseClarke
 from mdfqm_model.clarke import InverseClarkeModel, inverse_clarke
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 
 def stimulus(rng, width, cycles, gaps, backpressure):

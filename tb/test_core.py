@@ -8,10 +8,10 @@ import time
 import cocotb
 import pytest
 
-from core_stimulus import generate
-from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_spec.contract import Contract, loop_latency
+from mdfqm_testkit.core_stimulus import generate
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 CASES = [(3, 16, "largest_duty"), (3, 16, "exact_nearest"), (3, 12, "largest_duty"),
          (3, 18, "largest_duty"), (4, 16, "largest_duty"), (5, 16, "largest_duty"),

@@ -1,15 +1,15 @@
 """The whole-core regression of >= 10**6 checked cycles through the vector-file path
-(tb/vectors.py: no Python per cycle), every output every cycle against CoreModel."""
+(tb/mdfqm_testkit/vectors.py: no Python per cycle), every output every cycle against CoreModel."""
 
 import os
 import random
 
 import pytest
 
-from core_stimulus import SCENARIOS, generate
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_spec.contract import Contract
-from vectors import VectorBench
+from mdfqm_testkit.core_stimulus import SCENARIOS, generate
+from mdfqm_testkit.vectors import VectorBench
 
 
 def run_core_vectors(phases, width, rule, cycles_per_scenario, seed):

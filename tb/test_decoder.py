@@ -8,10 +8,10 @@ FULL, every output on every clock, one clock of latency."""
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.selector import StateDecoder
 from mdfqm_model.update import decode, feedback
 from mdfqm_spec.contract import Contract
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 
 @cocotb.test()

@@ -1,7 +1,7 @@
 # amaranth: UnusedElaboratable=no
 """The whole board demo (DemoDesign) driven through its UART, on each board's configuration:
-bytes in -> bridge -> registers -> NCO -> drop-in top -> gate pins, every pin on every clock
-against tb/demo_models.py: DemoModel; the replies are checked against the protocol and the
+bytes in -> bridge -> registers -> NCO -> drop-in top -> gate pins, every pin on every clock against
+tb/mdfqm_testkit/demo_models.py: DemoModel; the replies are checked against the protocol and the
 register maps, the switching counters against the top's own counters.
 
 Each board's configuration is used as built (clock, NCO, buttons, dead-time floor, the
@@ -18,11 +18,11 @@ import cocotb
 import pytest
 
 from demo.design import DemoConfig, DemoDesign
-from demo_models import DemoModel, line_bits
-from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_spec import bridge as proto
 from mdfqm_spec import regmap as top_map
 from mdfqm_spec.regmap import ID_VALUE, TOP_BASE, demo_window
+from mdfqm_testkit.demo_models import DemoModel, line_bits
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:

@@ -5,9 +5,9 @@ to build/generated), checked in the user's own flow:
     file, scoped to its own text: a user's code after it is still checked; every other Verilator
     on PATH, e.g. Debian's older one, accepts them too);
 (b) Icarus Verilog (``iverilog -g2005 -Wall``) compiles every file without a warning, and a short
-    vector run of every file (tb/vectors.py: stimulus and the golden model's expected outputs
-    in ``$readmemh`` files, a mismatch counter in the bench) passes with zero mismatches under
-    both Icarus (``vvp``) and Verilator.
+    vector run of every file (tb/mdfqm_testkit/vectors.py: stimulus and the golden model's
+    expected outputs in ``$readmemh`` files, a mismatch counter in the bench) passes with zero
+    mismatches under both Icarus (``vvp``) and Verilator.
 
 Icarus is not on PyPI: where ``iverilog`` is missing its tests are skipped (``apt-get install
 iverilog``; .ci/run installs it). ``SEED=<n>`` replays the random stimulus.
@@ -24,12 +24,12 @@ from pathlib import Path
 
 import pytest
 
-from bbit_stimulus import generate as generate_generator
-from core_stimulus import generate as generate_core
 from mdfqm_gateware.dropin import default_configs, dropin_verilog
 from mdfqm_spec.contract import Contract
-from top_stimulus import top_stimulus
-from vectors import ICARUS_HINT, VectorBench
+from mdfqm_testkit.bbit_stimulus import generate as generate_generator
+from mdfqm_testkit.core_stimulus import generate as generate_core
+from mdfqm_testkit.top_stimulus import top_stimulus
+from mdfqm_testkit.vectors import ICARUS_HINT, VectorBench
 
 PHASES, WIDTH = 3, 16
 CONFIGS = dict(default_configs(PHASES, WIDTH))

@@ -15,9 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from test_c_driver import NAME, replay_clock_log, top_params
 
-from harness import ROOT, verilator_build_env
 from mdfqm_drive.control import Encoder, FocController, Tuning
 from mdfqm_drive.fault import fault_case, rpm_for_emf_ratio, short_circuit_current
 from mdfqm_drive.firmware_loop import FirmwareLoop, build, rtl_fault_case
@@ -26,6 +24,8 @@ from mdfqm_drive.modulator import IpModulator, IpSettings
 from mdfqm_drive.motors import MOTORS, Load
 from mdfqm_gateware.dropin import default_configs, dropin_verilog
 from mdfqm_spec.contract import loop_latency
+from mdfqm_testkit.clock_log import NAME, replay_clock_log, top_params
+from mdfqm_testkit.harness import ROOT, verilator_build_env
 
 RPM = 2 * math.pi / 60
 F_CLK = 32e6

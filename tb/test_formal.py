@@ -1,8 +1,8 @@
 # amaranth: UnusedElaboratable=no
-"""Every SymbiYosys run (``tb/formal.py``): the k-induction proofs and the covers of each block
-alone (leg and gate driver, integrators, decoder, sort1, sort2, the b-bit generator) and of the
-whole drop-in top (real and free core), and the tests of the tests: each safety proof must fail
-on a design broken on purpose (a leg without dead time; the fault path and the integrator bound
+"""Every SymbiYosys run (``tb/mdfqm_testkit/formal.py``): the k-induction proofs and the covers of
+each block alone (leg and gate driver, integrators, decoder, sort1, sort2, the b-bit generator) and
+of the whole drop-in top (real and free core), and the tests of the tests: each safety proof must
+fail on a design broken on purpose (a leg without dead time; the fault path and the integrator bound
 cut in the netlist with Yosys ``connect -set`` on the named wire).
 
 The simulations of the same blocks, the properties included, are in their own files
@@ -15,7 +15,6 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
 import mdfqm_gateware.top as top_module
-from formal import AscWithoutDeadTimeLeg, NoDeadTimeLeg, assertion_site, run_sby
 from mdfqm_gateware import driver, fronts, integrator
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_gateware.driver import GateDriver, LegDriver
@@ -28,6 +27,7 @@ from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import Contract, sorting_network
 from mdfqm_spec.regmap import ADDR_WIDTH, COUNTER_WIDTH, IRQ_MASK
+from mdfqm_testkit.formal import AscWithoutDeadTimeLeg, NoDeadTimeLeg, assertion_site, run_sby
 
 # ---------------------------------------------------------------------- leg and gate driver
 

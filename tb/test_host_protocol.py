@@ -7,13 +7,13 @@ from types import SimpleNamespace
 
 import pytest
 
-from demo_models import BridgeModel
 from mdfqm_host.cli import find_ports, main
 from mdfqm_host.client import BusError, Client, NoReplyError
 from mdfqm_host.device import TOP_MAP, Counters, DemoDevice, linear_limit
 from mdfqm_host.simdevice import SimulatedDevice
 from mdfqm_spec import bridge as proto
 from mdfqm_spec.regmap import ID_VALUE, demo_window
+from mdfqm_testkit.demo_models import BridgeModel
 
 DEMO = demo_window(3, 16, 32)
 

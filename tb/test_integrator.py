@@ -9,10 +9,10 @@ their extremes, for the core's feedback unit (FULL) and the generator's (FULL / 
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.integrator import Integrator
 from mdfqm_model.update import integrate
 from mdfqm_spec.contract import Contract
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 # (phases, width, unit_shift): the core's unit, and the generator's at max_bits 8
 CASES = [(3, 16, 14), (5, 16, 6)]

@@ -6,8 +6,8 @@ import cocotb
 import pytest
 
 from demo.nco import SineNco
-from harness import check_cycles, params, run_block, seeded_rng, start, unpack
 from mdfqm_model.nco import NcoModel
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start, unpack
 
 # phases, width, acc_bits, table_bits, sample_width, quarter
 CASES = [(3, 16, 32, 8, 16, True), (3, 16, 32, 8, 16, False), (5, 12, 24, 4, 8, True),

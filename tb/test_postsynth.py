@@ -5,9 +5,10 @@ and from ``synth_ecp5``, simulated with Yosys' own cell models under Verilator, 
 output on every clock that the model gives; the RTL runs the very same vector files and gives
 the same (so netlist = RTL = model, clock by clock).
 
-The vectors are each block's closed-loop stimulus (tb/core_stimulus.py, tb/bbit_stimulus.py,
-tb/top_stimulus.py: scenarios, every modulation mode, runtime changes, resets, a fault, bus
-traffic), run through the vector-file bench of tb/vectors.py (no Python per cycle).
+The vectors are each block's closed-loop stimulus (tb/mdfqm_testkit/core_stimulus.py,
+tb/mdfqm_testkit/bbit_stimulus.py, tb/mdfqm_testkit/top_stimulus.py: scenarios, every modulation
+mode, runtime changes, resets, a fault, bus traffic), run through the vector-file bench of
+tb/mdfqm_testkit/vectors.py (no Python per cycle).
 ``SEED=<n>`` replays; the netlists and their cell counts stay in build/postsynth/.
 """
 
@@ -19,16 +20,15 @@ from pathlib import Path
 
 import pytest
 
-import bbit_stimulus
-import core_stimulus
-from harness import ROOT, verilator_build_env, write_verilog
 from mdfqm_gateware.core import MdfqmCore
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.contract import MODES, Contract
-from top_stimulus import top_stimulus
-from vectors import MAIN_CPP, VectorBench, ports_of
-from vectors import testbench as vector_testbench
+from mdfqm_testkit import bbit_stimulus, core_stimulus
+from mdfqm_testkit.harness import ROOT, verilator_build_env, write_verilog
+from mdfqm_testkit.top_stimulus import top_stimulus
+from mdfqm_testkit.vectors import MAIN_CPP, VectorBench, ports_of
+from mdfqm_testkit.vectors import testbench as vector_testbench
 
 PHASES, WIDTH, RULE, MAX_BITS = 3, 16, "largest_duty", 8
 
@@ -134,7 +134,8 @@ def synthesise(component, toplevel: str, family: str, directory: Path) -> tuple[
 
 
 class NetlistBench(VectorBench):
-    """tb/vectors.py's bench around a gate-level netlist and its family's cell models."""
+    """tb/mdfqm_testkit/vectors.py's bench around a gate-level netlist and its family's cell
+    models."""
 
     def __init__(self, component, toplevel: str, family: str, directory: Path):
         self.directory = directory

@@ -9,11 +9,11 @@ is i_valid delayed by the block's latency."""
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.resolution import Quantiser
 from mdfqm_model.bbit import _gamma_update, centred_slots
 from mdfqm_model.update import remove_common_mode
 from mdfqm_spec.contract import MODES, Contract
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 CASES = [(3, 16, 4), (5, 12, 3)]
 

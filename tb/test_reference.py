@@ -9,10 +9,10 @@ tick takes it, a tick without a pending beat keeps the held reference; resets mi
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.reference import ReferenceStage
 from mdfqm_model.update import remove_common_mode
 from mdfqm_spec.contract import Contract
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 CASES = [(3, 16), (5, 12)]
 

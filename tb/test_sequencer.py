@@ -9,10 +9,10 @@ sync_in at every phase, long and short updates, resets mid-run."""
 import cocotb
 import pytest
 
-from harness import check_cycles, params, run_block, seeded_rng, start
 from mdfqm_gateware.sequencer import UpdateSequencer
 from mdfqm_model.clock import CoreModel, GeneratorModel
 from mdfqm_spec.contract import loop_latency, resolution_latency
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 # (phases, max_bits or None for the core's sequencer)
 CASES = [(3, None), (3, 4)]

@@ -9,9 +9,9 @@ load); loads at any time, also before a layout has finished; every output on eve
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start
 from mdfqm_gateware.resolution import SlotLayout
 from mdfqm_model.bbit import centred_slots
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start
 
 CASES = [(3, 3), (5, 4)]
 

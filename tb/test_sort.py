@@ -6,9 +6,9 @@
 import cocotb
 import pytest
 
-from harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 from mdfqm_gateware.sort import SortNetwork
 from mdfqm_model.update import sort1
+from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
 CASES = [(n, 16) for n in (3, 4, 5, 6, 9)] + [(3, 12), (3, 18), (5, 12)]
 

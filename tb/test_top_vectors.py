@@ -1,9 +1,10 @@
 # amaranth: UnusedElaboratable=no
-"""The drop-in top's long regression through the vector-file path (tb/vectors.py: no Python per
-simulated cycle): >= 10**6 checked clocks in `make test`, every output every clock against
-TopModel, the generator's every mode in force (random MODULATION writes, legal and not) under a
-firmware-like bus master, with resets, a fault and sync pulses (tb/top_stimulus.py). The
-MDFQM-only top and the AXI4-Lite front get a shorter run each. ``SEED=<n>`` replays."""
+"""The drop-in top's long regression through the vector-file path (tb/mdfqm_testkit/vectors.py: no
+Python per simulated cycle): >= 10**6 checked clocks in `make test`, every output every clock
+against TopModel, the generator's every mode in force (random MODULATION writes, legal and not)
+under a firmware-like bus master, with resets, a fault and sync pulses
+(tb/mdfqm_testkit/top_stimulus.py). The MDFQM-only top and the AXI4-Lite front get a shorter run
+each. ``SEED=<n>`` replays."""
 
 import os
 import random
@@ -12,8 +13,8 @@ import pytest
 
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.contract import MODES
-from top_stimulus import COINCIDENT, top_stimulus
-from vectors import VectorBench
+from mdfqm_testkit.top_stimulus import COINCIDENT, top_stimulus
+from mdfqm_testkit.vectors import VectorBench
 
 #: (name, top, runs x cycles): 4 x 225 000 + 2 x 50 000 + 2 x 30 000 = 1 060 000 checked
 #: clocks

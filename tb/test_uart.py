@@ -1,5 +1,6 @@
 # amaranth: UnusedElaboratable=no
-"""UART receiver and transmitter, every output on every clock, against tb/demo_models.py."""
+"""UART receiver and transmitter, every output on every clock, against
+tb/mdfqm_testkit/demo_models.py."""
 
 import cocotb
 import pytest
@@ -8,8 +9,8 @@ from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out, connect
 
 from demo.uart import UartRx, UartTx, uart_divider
-from demo_models import UartRxModel, UartTxModel
-from harness import check_cycles, params, run_block, seeded_rng, start
+from mdfqm_testkit.demo_models import UartRxModel, UartTxModel
+from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 #: edge cases, and the smallest and largest of the boards' dividers at 115200 baud (16.5 MHz:
 #: 143, 36 MHz: 313, 48 MHz: 417, 50 MHz: 434); the counters differ only in width

@@ -46,16 +46,14 @@ __all__ = [
 ]
 
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tb"))  # the simulation harness
-
-from harness import ROOT, pack
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_model.bbit import modulate_bbit
 from mdfqm_model.clock import GeneratorModel
 from mdfqm_spec.contract import MODES, Contract
+from mdfqm_testkit.harness import ROOT, pack
+from mdfqm_testkit.vectors import VectorBench, pack_words, port_connections
 from tools.analysis.metrics import PWave, distortion
 from tools.analysis.signals import reference_codes
-from vectors import VectorBench, pack_words, port_connections
 
 PHASES, WIDTH, RULE, MAX_BITS = 3, 16, "largest_duty", 8
 #: clocks per reference sample: 256 = one b = 8 layout of 1-clock slots, or 4 MDFQM updates
@@ -93,7 +91,8 @@ METHODS = (
 
 
 def dump_testbench(toplevel: str, inputs, outputs) -> str:
-    """A file-driven bench like tb/vectors.py's that also writes ``got`` every cycle."""
+    """A file-driven bench like tb/mdfqm_testkit/vectors.py's that also writes ``got`` every
+    cycle."""
     in_width = sum(w for _, w in inputs)
     out_width = sum(w for _, w in outputs)
     ports = port_connections(inputs, outputs)

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """Speed and size of the drop-in designs on iCE40 UP5K, iCE40 HX8K and ECP5-25F, post-route.
 
     python -m tools.perf [--quick | --designs KEY,... --devices KEY,...] [--readme README.md]

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """Write the drop-in Verilog files (core, generator, top) and report what was built.
 
     mdfqm-dropin --out build/generated [--phases 3 --width 16] [--lint]

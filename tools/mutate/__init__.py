@@ -7,8 +7,8 @@ inserts all of them into one netlist, each selected at run time by a ``mutsel`` 
 campaign builds one simulator per block, not one per mutant (:mod:`.netlist`). Every mutant
 then runs, stopping at the first failure (:mod:`.stages`):
 
-1. the block's vector stimulus through the compiled bench of tb/vectors.py (every output every
-   clock against the golden model);
+1. the block's vector stimulus through the compiled bench of tb/mdfqm_testkit/vectors.py (every
+   output every clock against the golden model);
 2. the block's cocotb tests, then its SymbiYosys proof with the mutation applied to the proof's
    own netlist;
 3. for a survivor, an equivalence check of the mutant against the original (a longer

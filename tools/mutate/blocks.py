@@ -1,27 +1,21 @@
+# amaranth: UnusedElaboratable=no
 """The blocks of a campaign: each drop-in (core, generator, the top with each front) and the
 gate driver, with what tests each: its vector stimulus (stage 1), its cocotb tests and formal
 proof (stage 2).
 
-The stimulus is the project's own (tb/core_stimulus.py, tb/bbit_stimulus.py,
-tb/top_stimulus.py, and the cocotb driver test's scenarios in tb/test_driver.py), at the sizes
-the vector regressions of ``make test`` use; the cocotb tests and the proof are those
-``make test`` runs on the same configuration.
+The stimulus is the project's own (the test kit's core, b-bit, top and driver stimulus:
+tb/mdfqm_testkit/), at the sizes the vector regressions of ``make test`` use; the cocotb tests
+and the proof are those ``make test`` runs on the same configuration.
 """
 
 from __future__ import annotations
 
 import copy
 import random
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 __all__ = ["BLOCKS", "DRIVER", "DRIVER_SCENARIOS", "Block", "CocotbTest", "Run"]
-
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT / "tb") not in sys.path:
-    sys.path.insert(0, str(ROOT / "tb"))      # the simulation harness and the stimulus
 
 #: one vector run: (name, inputs by port, expected outputs by port)
 Run = tuple[str, dict, dict]
@@ -59,8 +53,8 @@ class Block:
 
 
 def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
-    from core_stimulus import SCENARIOS, generate
     from mdfqm_spec.contract import Contract
+    from mdfqm_testkit.core_stimulus import SCENARIOS, generate
 
     contract = Contract(3, 16)
     runs = []
@@ -72,8 +66,8 @@ def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
 
 
 def _generator_runs(seed: int, cycles: int = 30_000) -> list[Run]:
-    from bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
     from mdfqm_spec.contract import Contract
+    from mdfqm_testkit.bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
 
     contract = Contract(3, 16)
     runs = []
@@ -101,16 +95,16 @@ DRIVER_SCENARIOS = (("random", 12000), ("fault_chatter", 4000), ("fault_in_dead_
 
 
 def _driver_runs(seed: int) -> list[Run]:
-    """The cocotb driver test's scenarios (tb/test_driver.py ``generate``) as one vector run,
-    each led by the two reset clocks ``harness.start`` gives it (the driver keeps its dead time
-    in force and the fault synchroniser through a reset, so the scenarios follow one another in
-    one simulation, as in the cocotb test)."""
-    import test_driver
-    from mdfqm_model.driver import DRIVER_INPUTS, DRIVER_OUTPUTS, GateDriverModel
+    """The cocotb driver test's scenarios (tb/test_driver.py) as one vector run, each led by
+    the two reset clocks ``harness.start`` gives it (the driver keeps its dead time in force
+    and the fault synchroniser through a reset, so the scenarios follow one another in one
+    simulation, as in the cocotb test: :class:`DriverRun` carries the model)."""
+    from mdfqm_model.driver import DRIVER_INPUTS, DRIVER_OUTPUTS
+    from mdfqm_testkit.driver_stimulus import DriverRun
 
     p = DRIVER
     mask = (1 << p["phases"]) - 1
-    test_driver.CARRY.update(model=None, last=None)
+    run = DriverRun(p)
     stim = {name: [] for name in DRIVER_INPUTS}
     expected = {name: [] for name in (*DRIVER_OUTPUTS, "up", "lo")}
 
@@ -123,16 +117,9 @@ def _driver_runs(seed: int) -> list[Run]:
         expected["lo"].append(out["lower"] ^ (mask if p["lower_active_low"] else 0))
 
     for k, (scenario, cycles) in enumerate(DRIVER_SCENARIOS):
-        carried = test_driver.CARRY["model"]
-        model = copy.deepcopy(carried) if carried is not None else GateDriverModel(
-            p["phases"], p["dead_min"], p["time_width"], p["upper_active_low"],
-            p["lower_active_low"], p["asc"])
-        last = test_driver.CARRY["last"] or {name: 0 for name in DRIVER_INPUTS}
-        for _ in range(2):               # harness.start: rst high two clocks, inputs held
-            inputs = {**last, "rst": 1}
-            add(inputs, model.step(**inputs))
-        rng = random.Random(f"{seed}-driver-{k}")
-        s, e, _ = test_driver.generate(rng, scenario, p, cycles)
+        for inputs, out in copy.deepcopy(run).reset_clocks():
+            add(inputs, out)
+        s, e, _ = run.generate(random.Random(f"{seed}-driver-{k}"), scenario, cycles)
         for c in range(cycles):
             add({name: s[name][c] for name in DRIVER_INPUTS},
                 {name: e[name][c] for name in DRIVER_OUTPUTS})
@@ -142,7 +129,7 @@ def _driver_runs(seed: int) -> list[Run]:
 def _top_runs(bus: str, runs: tuple[int, ...]):
     def make(seed: int) -> list[Run]:
         from mdfqm_gateware.top import MdfqmTop
-        from top_stimulus import top_stimulus
+        from mdfqm_testkit.top_stimulus import top_stimulus
 
         top = MdfqmTop(3, 16, bus=bus)
         out = []
@@ -150,7 +137,6 @@ def _top_runs(bus: str, runs: tuple[int, ...]):
             stim, expected, _ = top_stimulus(random.Random(f"{seed}-{bus}-{k}"), top, 3, 16,
                                              cycles)
             out.append((f"run{k}", stim, expected))
-        top._MustUse__used = True        # only its ports and parameters were read
         return out
     return make
 

@@ -96,7 +96,7 @@ class BlockCampaign:
     """One block's share: netlists, benches, the database (parent process only)."""
 
     def __init__(self, block: Block, settings: Settings):
-        from vectors import ports_of
+        from mdfqm_testkit.vectors import ports_of
 
         self.block, self.settings = block, settings
         # a run of chosen keys (--only) works apart: a campaign may be running meanwhile
@@ -106,7 +106,6 @@ class BlockCampaign:
             (self.directory / "design.il").read_bytes()).hexdigest()[:16]
         component = block.build(False)
         self.ports = ports_of(component)
-        component._MustUse__used = True          # only its signature was read
         if settings.only:
             self.mutations = self.netlist.resolve(settings.only)
         else:
@@ -201,7 +200,6 @@ class BlockCampaign:
                 path.write_text(text)
             sources[toplevel] = str(path)
         component = self.block.build(False)
-        component._MustUse__used = True          # the bench reads its ports only
         bench = MutantBench(component, self.block.toplevel, f"mutants-{self.directory.name}",
                             source=Path(sources[self.block.toplevel]))
         prepared = self._stimulus(bench, "stimulus", [self.settings.seed])
@@ -258,8 +256,9 @@ def stimulus_hash() -> str:
 
 
 #: the files the vector stimulus of :mod:`.blocks` is made by
-STIMULUS_SOURCES = ("tb/core_stimulus.py", "tb/bbit_stimulus.py", "tb/top_stimulus.py",
-                    "tb/test_driver.py", "tools/mutate/blocks.py")
+STIMULUS_SOURCES = ("tb/mdfqm_testkit/core_stimulus.py", "tb/mdfqm_testkit/bbit_stimulus.py",
+                    "tb/mdfqm_testkit/top_stimulus.py", "tb/mdfqm_testkit/driver_stimulus.py",
+                    "tools/mutate/blocks.py")
 
 
 #: why a mutation of a flop's clock port has no formal stage and no equivalence check

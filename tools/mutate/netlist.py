@@ -484,7 +484,7 @@ def wrapper(toplevel: str, inner: str, ports, width: int) -> str:
     """Module ``toplevel`` with the block's ports ``ports`` = (inputs, outputs) of
     :func:`vectors.ports_of` (``clk`` added) around ``inner``; ``mutsel`` from the plusarg
     ``+mutsel=<k>``, 0 (the original) without it."""
-    from vectors import verilog_name as v
+    from mdfqm_testkit.vectors import verilog_name as v
 
     inputs, outputs = ports
     decl = ["    input clk"]

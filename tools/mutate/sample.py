@@ -166,7 +166,7 @@ def sized(block: str, seed: int, size: int):
 def build(block: str, keys, directory: Path):
     """The netlist of ``keys`` (mutant k = keys[k - 1]) of ``block``, its bench and its
     prepared vector files: ``(bench binary, prepared runs, mutations)``."""
-    from vectors import ports_of
+    from mdfqm_testkit.vectors import ports_of
 
     spec = BLOCKS[block]
     netlist = BlockNetlist(spec.build(True), directory)
@@ -174,7 +174,6 @@ def build(block: str, keys, directory: Path):
     module = f"{block}_mutants"
     netlist.write_mutants(mutations, module)
     component = spec.build(False)
-    component._MustUse__used = True
     source = directory / f"mutants-{spec.toplevel}.v"
     text = ((directory / "mutants.net.v").read_text()
             + wrapper(spec.toplevel, module, ports_of(component), mutsel_width(len(keys))))

@@ -1,8 +1,8 @@
 """The three stages a mutant goes through, stopping at the first failure (a kill):
 
-1. ``vector``: the block's vector stimulus in the compiled Verilator bench of tb/vectors.py
-   (:class:`MutantBench`, built once per block on the netlist of every mutant, ``+mutsel=k``),
-   every output every clock against the model's expected outputs;
+1. ``vector``: the block's vector stimulus in the compiled Verilator bench of
+   tb/mdfqm_testkit/vectors.py (:class:`MutantBench`, built once per block on the netlist of
+   every mutant, ``+mutsel=k``), every output every clock against the model's expected outputs;
 2. ``cocotb`` then ``formal``: the block's cocotb test modules (cocotb's runner on the same
    netlist, built once per test module, ``+mutsel=k``), then the block's SymbiYosys proof
    (:func:`formal.run_sby`, the one mutation applied to the proof's own netlist with its
@@ -26,15 +26,11 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
+from mdfqm_testkit.harness import PARAMS_ENV, SEED_ENV, verilator_build_env
+from mdfqm_testkit.vectors import VectorBench, pack_words
+from mdfqm_testkit.vectors import verilog_name as v
+
 from .netlist import FORMAL_PREFIX, ROOT, YOSYS, environment, short_src
-
-TB = ROOT / "tb"
-if str(TB) not in sys.path:
-    sys.path.insert(0, str(TB))
-
-from harness import PARAMS_ENV, SEED_ENV, verilator_build_env  # noqa: E402
-from vectors import VectorBench, pack_words  # noqa: E402
-from vectors import verilog_name as v  # noqa: E402
 
 __all__ = [
     "BMC_SECONDS",
@@ -69,9 +65,9 @@ def locked(path: Path):
 
 
 class MutantBench(VectorBench):
-    """tb/vectors.py's bench built once on a netlist of mutants (``source``: the mutants and
-    the wrapper that reads ``+mutsel``); :meth:`prepare` writes a block's vector files once,
-    :meth:`run_mutant` runs them on one mutant."""
+    """tb/mdfqm_testkit/vectors.py's bench built once on a netlist of mutants (``source``: the
+    mutants and the wrapper that reads ``+mutsel``); :meth:`prepare` writes a block's vector files
+    once, :meth:`run_mutant` runs them on one mutant."""
 
     def prepare(self, runs) -> list[dict]:
         """Write the hex files of ``runs`` ((name, stimulus, expected) each), return what
@@ -181,7 +177,7 @@ def _cocotb_child(spec: dict) -> None:
     work = Path(spec["work"])
     runner = get_runner("verilator")
     runner.build_dir = Path(spec["build_dir"])
-    results = runner.test(test_module=spec["module"], hdl_toplevel=spec["toplevel"],
+    results = runner.test(test_module=f"tb.{spec['module']}", hdl_toplevel=spec["toplevel"],
                           hdl_toplevel_lang="verilog",
                           build_dir=spec["build_dir"], test_dir=work,
                           testcase=spec["testcase"], plusargs=[f"+mutsel={spec['mutant']}"],
@@ -194,12 +190,12 @@ def _cocotb_child(spec: dict) -> None:
 
 
 def run_formal(component, name: str, depth: int, mutant_il: Path | None) -> dict:
-    """The block's proof (``prove`` task, tb/formal.py ``run_sby``) on ``mutant_il`` (the
-    proof's own netlist with the mutation, :func:`netlist.write_formal_mutant`; it replaces
-    the design after run_sby's ``prep``), or on the original flattened (None). A
+    """The block's proof (``prove`` task, tb/mdfqm_testkit/formal.py ``run_sby``) on ``mutant_il``
+    (the proof's own netlist with the mutation, :func:`netlist.write_formal_mutant`; it replaces the
+    design after run_sby's ``prep``), or on the original flattened (None). A
     counterexample is a kill; a proof that no longer closes by induction (no counterexample)
     is a kill too (the test fails) and said so."""
-    from formal import run_sby
+    from mdfqm_testkit.formal import run_sby
 
     mutation = (("design -reset", f"read_rtlil {mutant_il}", "hierarchy -top dut")
                 if mutant_il else FORMAL_PREFIX)

@@ -227,7 +227,7 @@ def test_the_equivalence_check_proves_an_unread_reset_value_and_finds_a_differen
     unpaired bit, differs in the clock after reset; the check that stopped there said
     undecided). Its loaded value inverted (``A``) is read: not equivalent, a counterexample
     from reset."""
-    from vectors import ports_of
+    from mdfqm_testkit.vectors import ports_of
 
     block = BlockNetlist(_HeldAfterReset(), BUILD / "held")
     cells = json.loads((block.directory / "sim.json").read_text())["modules"]["dut"]["cells"]

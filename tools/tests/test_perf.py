@@ -15,7 +15,6 @@ PARAMS = ("phases", "width", "rule", "max_bits", "bus", "counter_width", "dead_m
 
 
 def _params(component):
-    component._MustUse__used = True     # only looked at, never elaborated: no warning
     return type(component), {p: getattr(component, p, None) for p in PARAMS}
 
 

@@ -8,8 +8,8 @@ with the gateware's, the gateware sees exactly this stimulus.
 
 import math
 
-from harness import pack
 from mdfqm_model.clock import CoreModel
+from mdfqm_testkit.harness import pack
 
 #: every scenario generate() knows
 SCENARIOS = ("sine", "overmod", "runtime", "ties", "extremes", "limits")

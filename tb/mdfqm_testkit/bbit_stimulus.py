@@ -38,8 +38,10 @@ Scenarios:
 
 import math
 
-import core_stimulus
-from core_stimulus import (
+from mdfqm_model.clock import GeneratorModel
+from mdfqm_spec.contract import MODES, min_period
+from mdfqm_testkit import core_stimulus
+from mdfqm_testkit.core_stimulus import (
     OSR_MAX,
     PERIOD_MAX,
     extreme_codes,
@@ -49,9 +51,7 @@ from core_stimulus import (
     sine_codes,
     sync_delay,
 )
-from harness import pack
-from mdfqm_model.clock import GeneratorModel
-from mdfqm_spec.contract import MODES, min_period
+from mdfqm_testkit.harness import pack
 
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",

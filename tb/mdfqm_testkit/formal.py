@@ -10,8 +10,8 @@ from pathlib import Path
 
 from amaranth.back import rtlil
 
-from harness import ROOT
 from mdfqm_gateware.driver import LegDriver
+from mdfqm_testkit.harness import ROOT
 
 
 def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=True,

@@ -5,13 +5,13 @@ outputs from :class:`mdfqm_model.top.TopModel`: used by the drop-in files' vecto
 import math
 from collections import deque
 
-from bbit_stimulus import boundary_codes, tie_codes
-from core_stimulus import extreme_codes, sine_codes
-from harness import pack
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES, Contract
-from vectors import ports_of
+from mdfqm_testkit.bbit_stimulus import boundary_codes, tie_codes
+from mdfqm_testkit.core_stimulus import extreme_codes, sine_codes
+from mdfqm_testkit.harness import pack
+from mdfqm_testkit.vectors import ports_of
 
 #: (cyc, stb) of an idle Wishbone master clock: neither, cyc alone, stb alone (never a request)
 IDLE_WISHBONE = ((0, 0), (0, 0), (1, 0), (0, 1))

@@ -19,8 +19,8 @@ import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-TB_DIR = Path(__file__).resolve().parent
+ROOT = Path(__file__).resolve().parents[2]
+TB_DIR = Path(__file__).resolve().parents[1]
 SIM_BUILD = ROOT / "build" / "sim"
 PARAMS_ENV = "MDFQM_TB_PARAMS"
 #: The run's seed, chosen on the pytest side (``SEED=`` or a fresh one): cocotb 2.x replaces
