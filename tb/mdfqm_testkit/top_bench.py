@@ -1,5 +1,6 @@
 """A cycle-level bench of the drop-in top for the cocotb tests (tb/test_top.py, and the tests
-that reuse its model or port names): the bus masters of both fronts, an FOC-like stream
+that reuse its model or port names): the bus masters of both fronts (the project's one master
+of each kind, :mod:`mdfqm_testkit.bus_masters`, importable from here too), an FOC-like stream
 source, the fault and sync inputs, with the expected outputs from
 :class:`mdfqm_model.top.TopModel` every clock and the traces of the independent checks."""
 
@@ -12,8 +13,21 @@ from mdfqm_model.driver import check_gate_safety
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES
+from mdfqm_testkit.bus_masters import (
+    IDLE_WISHBONE,
+    MASTERS,
+    Access,
+    AxiLiteMaster,
+    AxiLitePolicy,
+    WishboneMaster,
+    WishbonePolicy,
+)
 from mdfqm_testkit.harness import pack
-from mdfqm_testkit.top_stimulus import IDLE_WISHBONE
+
+#: the bus masters are the project's (mdfqm_testkit.bus_masters); imported from here too
+__all__ = ["COMMON_INPUTS", "COMMON_OUTPUTS", "IDLE_WISHBONE", "MASTERS", "Access",
+           "AxiLiteMaster", "AxiLitePolicy", "Bench", "WishboneMaster", "WishbonePolicy",
+           "make_model", "port_name"]
 
 COMMON_INPUTS = ("rst", "ref__valid", "ref__payload", "fault_in", "sync_in")
 COMMON_OUTPUTS = {"ref__ready": "ref_ready", "upper": "upper", "lower": "lower",
@@ -36,123 +50,6 @@ def make_model(p):
                     asc=p.get("asc", True))
 
 
-class WishboneMaster:
-    """One operation at a time: ``cyc`` raised, ``stb`` with it or up to two clocks later, both
-    held until ``ack``; idle gaps between, with ``cyc`` or ``stb`` alone at random (never
-    both) and random address, data and ``sel``."""
-
-    def __init__(self, rng):
-        self.rng, self.current, self.gap, self.lead = rng, None, 0, 0
-
-    def busy(self):
-        return self.current is not None
-
-    def inputs(self, ops):
-        rng = self.rng
-        if self.current is None and self.gap == 0 and ops:
-            self.current, self.lead = ops.popleft(), rng.choice([0, 0, 0, 1, 2])
-        adr, we, dat = self.current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
-        if self.current is None:
-            cyc, stb = rng.choice(IDLE_WISHBONE)
-        else:
-            cyc, stb = 1, int(self.lead == 0)
-            self.lead = max(0, self.lead - 1)
-        return {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr, "wb_dat_w": dat,
-                "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
-
-    def observe(self, bus, out):
-        """The read data of an operation that completed this cycle (None for a write)."""
-        done = None
-        if self.current is not None and out["wb_ack"]:
-            done = [None if self.current[1] else out["wb_dat_r"]]
-            self.current, self.gap = None, self.rng.choice([0, 0, 1, 2])
-        elif self.current is None and self.gap:
-            self.gap -= 1
-        return done
-
-    def abort(self):
-        self.current, self.gap = None, 0
-
-
-class AxiLiteMaster:
-    """Accesses started in queue order, a write's AW and W (and a read's AR) raised after their
-    own random delays and held, with their payload, until taken; the next write's AW/W (read's
-    AR) may start while the previous one waits for its response, so responses meet
-    back-pressure with the next access ready; ``bready`` and ``rready`` at random; random
-    payloads on idle channels."""
-
-    def __init__(self, rng):
-        self.rng, self.writes, self.reads, self.gap = rng, deque(), deque(), 0
-
-    def busy(self):
-        return bool(self.writes or self.reads)
-
-    @staticmethod
-    def _addressing(ops, channels):
-        """The op of ``ops`` still in its address/data phase, if any (the newest)."""
-        return ops[-1] if ops and not set(channels) <= ops[-1]["done"] else None
-
-    def inputs(self, ops):
-        rng = self.rng
-        while self.gap == 0 and ops:
-            adr, we, dat = ops[0]
-            queue, channels = (self.writes, ("aw", "w")) if we else (self.reads, ("ar",))
-            if self._addressing(queue, channels) is not None or len(queue) >= 2:
-                break
-            ops.popleft()
-            queue.append({"adr": adr * 4 + rng.randrange(4), "dat": dat, "done": set(),
-                          "wait": {ch: rng.choice([0, 0, 0, 1, 3]) for ch in channels}})
-        w = self._addressing(self.writes, ("aw", "w"))
-        r = self._addressing(self.reads, ("ar",))
-
-        def raised(op, channel):
-            return int(op is not None and channel not in op["done"] and op["wait"][channel] == 0)
-
-        self.current = {"aw": w, "w": w, "ar": r}
-        self.raised = {ch: raised(op, ch) for ch, op in self.current.items()}
-        return {
-            "s_axi_awvalid": self.raised["aw"], "s_axi_wvalid": self.raised["w"],
-            "s_axi_arvalid": self.raised["ar"],
-            "s_axi_awaddr": w["adr"] if w else rng.randrange(256),
-            "s_axi_wdata": w["dat"] if w else rng.getrandbits(32),
-            "s_axi_araddr": r["adr"] if r else rng.randrange(256),
-            "s_axi_wstrb": rng.choice([0xF, 0xF, 0x3, 0x0]), "s_axi_awprot": rng.randrange(8),
-            "s_axi_arprot": rng.randrange(8),
-            "s_axi_bready": int(rng.random() < 0.6), "s_axi_rready": int(rng.random() < 0.6),
-        }
-
-    def observe(self, bus, out):
-        """The read data of the access that completed this cycle: ``[value]`` for a read,
-        ``[None]`` for a write, None when nothing completed (B and R together: the read's)."""
-        for ch, op in self.current.items():
-            if op is None or ch in op["done"]:
-                continue
-            if self.raised[ch] and out[f"s_axi_{ch}ready"]:
-                op["done"].add(ch)
-            elif not self.raised[ch]:
-                op["wait"][ch] -= 1
-        done = None
-        if out["s_axi_bvalid"] and bus["s_axi_bready"]:
-            assert self.writes and {"aw", "w"} <= self.writes[0]["done"], "B without a write"
-            self.writes.popleft()
-            done = [None]
-        if out["s_axi_rvalid"] and bus["s_axi_rready"]:
-            assert self.reads and "ar" in self.reads[0]["done"], "R without a read"
-            self.reads.popleft()
-            done = [out["s_axi_rdata"]]
-        if done is not None:
-            self.gap = self.rng.choice([0, 0, 0, 1, 2])
-        elif self.gap:
-            self.gap -= 1
-        return done
-
-    def abort(self):
-        self.writes.clear()
-        self.reads.clear()
-        self.gap = 0
-
-
-MASTERS = {"wishbone": WishboneMaster, "axi4lite": AxiLiteMaster}
 
 
 class Bench:
