@@ -1,8 +1,10 @@
 """The gating-signal generator through the vector-file path (tb/mdfqm_testkit/vectors.py: no
-Python per cycle), >= 2*10**5 checked cycles, every output every cycle against GeneratorModel: every
-scenario of bbit_stimulus (each mode, random switches, overmodulation, extreme codes) with b
-anywhere in [1, max_bits]; and the ``limits`` scenario long enough for an update at the
-largest period."""
+Python per cycle), every output every cycle against GeneratorModel: every scenario of
+bbit_stimulus (each mode, random switches, mode handovers, overmodulation, extreme codes, the
+settings at their limits, trials from reset) with b anywhere in [1, max_bits]; and the
+``limits`` scenario long enough for an update at the largest period. Each scenario's functional
+coverage must close (every bin of its sequences), and the bins hit go to
+build/traceability.md (tb/mdfqm_testkit/spec_trace.py)."""
 
 import os
 import random
@@ -12,8 +14,17 @@ import pytest
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec.contract import Contract
+from mdfqm_testkit import spec_trace
 from mdfqm_testkit.bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate, tie_codes
+from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.vectors import VectorBench
+
+
+def closed(coverage, seed, scenario):
+    """The scenario's coverage closed (every goal hit), else the bins missing."""
+    missing = coverage.missing()
+    assert not missing, (f"seed {seed}, {scenario}: coverage not closed:\n"
+                         + "\n".join(f"  {point}: {b}" for point, b in missing))
 
 
 def run_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario, seed):
@@ -24,9 +35,14 @@ def run_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario, seed):
     total, mismatches, details = 0, 0, []
     for scenario in SCENARIOS:
         rng = random.Random(f"{seed}-{scenario}")
+        coverage = Coverage()
         stim, expected, _ = generate(rng, scenario, contract, rule, max_bits,
                                      cycles_per_scenario,
-                                     bits_choices=tuple(range(1, max_bits + 1)), segment=4000)
+                                     bits_choices=tuple(range(1, max_bits + 1)), segment=4000,
+                                     coverage=coverage)
+        spec_trace.record(f"bbit_vectors[n{phases}-w{width}-{rule}-b{max_bits}]", "generator",
+                          coverage)
+        closed(coverage, seed, scenario)
         result = bench.run(stim, expected, name=scenario)
         assert result["cycles"] == cycles_per_scenario, result
         total += result["cycles"]
@@ -56,9 +72,12 @@ def test_bbit_limits_vectors():
     contract = Contract(3, 16)
     bench = VectorBench(GatingSignalGenerator(3, 16, "largest_duty", 8),
                         "gating_signal_generator", "n3-w16-largest_duty-b8-limits")
+    coverage = Coverage()
     stim, expected, _ = generate(random.Random(f"{seed}-limits"), "limits", contract,
                                  "largest_duty", 8, LIMITS_CYCLES, bits_choices=tuple(range(1, 9)),
-                                 segment=4000)
+                                 segment=4000, coverage=coverage)
+    spec_trace.record("bbit_limits_vectors", "generator", coverage)
+    closed(coverage, seed, "limits")
     assert max(stim["period"]) == (1 << 16) - 1 and max(stim["osr"]) == 255
     result = bench.run(stim, expected, name="limits")
     assert result["cycles"] == LIMITS_CYCLES

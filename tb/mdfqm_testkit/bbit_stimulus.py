@@ -1,45 +1,43 @@
 """Closed-loop stimulus for the gating-signal generator, shared by the per-cycle cocotb tests
-(tb/test_bbit.py) and the vector-file run (tb/test_bbit_vectors.py).
+(tb/test_bbit.py), the vector-file runs (tb/test_bbit_vectors.py), the drop-in files' and
+the netlists' runs and the mutation campaign.
 
-As in core_stimulus: the stream source reacts to the model's ``ready`` like a real producer,
-and every cycle's expected outputs come from :class:`mdfqm_model.clock.GeneratorModel`.
-Scenarios:
+As in core_stimulus, the stream source reacts to the model's ``ready`` like a real producer,
+and every clock's expected outputs come from :class:`mdfqm_model.clock.GeneratorModel`. The
+stimulus is the specification's rules as small named sequences (:class:`GeneratorSequence`,
+see mdfqm_testkit.sequences): the b-bit generator's timing and clamps of docs/contract.md
+("b-bit pulse-width resolution") and the rows of docs/robustness.md that its ports can break.
+A scenario is a composition of those sequences run together by :class:`GeneratorRun`, which
+hits their coverpoints from what the model shows in each clock:
 
-- one per mode (``mdfqm``, ``svpwm``, ``dpwm0``, ``dpwm1``, ``dpwm``): that mode held, ``bits``
-  moving among ``bits_choices`` at random cycles (taken at the next update start), periods at
-  the minimum, at multiples of ``2**b`` and with remainder clocks, and at b = 1 or 2 now and
-  then a long one (4096 to 8191 clocks: the slot length's high bits), OSR and zero policy
-  moving;
-- ``switch``: mode and bits (illegal codes included), period (below the minimum included), OSR,
-  sync_in and resets all changing at random cycles;
-- ``handover``: mdfqm and the gamma modes alternating every update or two, mostly small b (up
-  to max_bits at times), mostly the fewest-transitions zero policy, small amplitudes: an MDFQM
-  update right after a layout, whose zero state depends on the layout's last slot;
+- one per mode (``mdfqm``, ``svpwm``, ``dpwm0``, ``dpwm1``, ``dpwm``): that mode held
+  (:class:`HeldMode`), b moving among ``bits_choices``, periods at the minimum, at multiples of
+  ``2**b`` and with remainder clocks, and at b = 1 or 2 now and then slots of 2k to 4k clocks,
+  OSR and zero policy moving;
+- ``switch``: mode and b (illegal codes too), period (below the minimum too), OSR, sync pulses
+  and resets all changing at random clocks (:class:`RandomSwitches`, :class:`SyncPulses`,
+  :class:`Resets`);
+- ``handover``: mdfqm and the slot modes alternating every update or two, mostly small b, the
+  fewest-transitions zero policy, small amplitudes (:class:`Handover`);
 - ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
-  in random modes;
-- ``limits``: every setting at its ends and at the values its clamp changes: period 0, 1, the
-  minimum and now and then a long one up to 2**16 - 1 (2**16 - 1 itself in a slot mode at b = 1
-  or 2); OSR 0, 1, 254, 255; mode 0-7 (5-7 illegal); bits 0, 1, max_bits, max_bits + 1, 15;
-  extreme codes, codes on the b-bit grid (the quantiser's decision boundaries,
-  :func:`grid_codes`) and overmodulation; in the second half sync pulses, now and then one
-  aimed at a power of two of an update's phase (the largest inside it half the time), and no
-  random one while it is due;
-- ``boundaries``: short trials from reset, each a random mode and b at its shortest periods,
-  every beat on the half-slot grid (:func:`boundary_codes`): from reset the integrators are
-  empty, so the first update's instants sit exactly on the quantiser's decision boundaries
-  and the duty sort's ties (a closed loop only wanders onto them now and then); svpwm (whose
-  offset is the sector sum ``max + min``) twice as often as each other slot mode; 3 in 4
-  slot-mode trials end with MDFQM updates (the fewest-transitions zero state after a layout);
-  every other trial is a ``dpwm0`` one from :func:`first_slot_codes`, its b and leg in turn
-  (a leg that turns on at the first slot boundary, which the layout decides at its load);
-- :func:`generate_core`: core_stimulus's scenarios (the core's model, ``CoreModel``) with
-  ``mode`` held at mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
+  in random modes (:class:`BeyondLinearRange`, :class:`ExtremeCodes`);
+- ``limits``: every setting at its ends and at the values its clamp changes
+  (:class:`SettingsAtTheirLimits`: period 0, 1, the minimum and, where the run has room, one up
+  to 2**16 - 1, held in a slot mode at b = 1 or 2; OSR 0, 1, 254, 255; mode 0-7, b 0, 1,
+  max_bits, max_bits + 1, 15; extreme codes, codes on the b-bit grid), and sync pulses aimed at
+  a power of two of an update's phase (:class:`SyncAtPowersOfTwo`, while no longest update is
+  held);
+- ``boundaries``: short trials from reset into empty integrators (:class:`FirstUpdateFromReset`):
+  each mode at its shortest periods with every beat on the half-slot grid, ties for MDFQM, and
+  ``dpwm0`` beats whose layout turns a chosen leg on at the first slot boundary;
+- :func:`generate_core`: core_stimulus's scenarios (the core's model) with ``mode`` held at
+  mdfqm and ``bits`` random: the generator must be the core, cycle for cycle.
 """
 
 import math
 
 from mdfqm_model.clock import GeneratorModel
-from mdfqm_spec.contract import MODES, min_period
+from mdfqm_spec.contract import MODES, latch_mode, min_period
 from mdfqm_testkit import core_stimulus
 from mdfqm_testkit.core_stimulus import (
     OSR_MAX,
@@ -51,7 +49,9 @@ from mdfqm_testkit.core_stimulus import (
     sine_codes,
     sync_delay,
 )
+from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.harness import pack
+from mdfqm_testkit.sequences import Sequence, doc, robustness
 
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
@@ -63,11 +63,13 @@ LIMITS_CYCLES = 150_000
 DPWM0 = MODES.index("dpwm0")
 #: the shortest period of the mode scenarios' long slot-mode updates (at b = 1 or 2)
 LONG_SLOTS_PERIOD = 4096
-#: chance of a reset, of a sync pulse in a clock, per scenario (``limits`` as in core_stimulus)
-RESETS = {"switch": 0.0005}
-SYNCS = {"switch": 0.02, "limits": 0.0005}
+#: the run length from which the mode scenarios aim at long slots (two updates of up to 8191)
+LONG_SLOTS_RUN = 20_000
 INPUTS = ("rst", "ref__valid", "ref__payload", "period", "osr", "zero_policy", "sync_in",
           "mode", "bits")
+CONTRACT_MD = "docs/contract.md"
+RESOLUTION = doc(CONTRACT_MD, "b-bit pulse-width resolution: the gating-signal generator")
+CORE_TIMING = doc(CONTRACT_MD, "Clock-level timing of the core (see `mdfqm_model.clock`)")
 
 
 def grid_codes(rng, contract, phases, bits):
@@ -139,150 +141,692 @@ def tie_codes(rng, contract, phases):
     return codes
 
 
-def _period_for(rng, model, mode, b):
-    """A period for (mode, b): the minimum, a multiple of 2**b, or one with remainder clocks."""
+#: the period shapes of a slot mode's update (docs/contract.md: "choose P a multiple of S for
+#: exactly equal slots"; the last slot absorbs the remainder)
+SHAPES = ("at the minimum", "a multiple of 2**b", "with remainder clocks")
+
+
+def _period_for(rng, model, mode, b, shape=None):
+    """A period for (mode, b): the minimum, a multiple of 2**b, or one with remainder clocks
+    (``shape``, one of :data:`SHAPES`, or any)."""
     if mode == 0:
         return rng.choice([model.latency, model.latency, model.latency + 1,
                            2 * model.latency + 3])
     s = 1 << b
     low = min_period(True, b, model.latency, model.long_latency)
-    choices = [low, s * max(1, -(-low // s)), low + rng.randint(1, max(1, s - 1))]
+    multiple = s * max(1, -(-low // s))
+    remainder = low + rng.randint(1, max(1, s - 1))
+    if remainder % s == 0:
+        remainder += 1
+    if shape is not None:
+        return {"at the minimum": low, "a multiple of 2**b": multiple if multiple > low
+                else multiple + s, "with remainder clocks": remainder}[shape]
+    choices = [low, multiple, remainder]
     if s < low:
         choices.append(low + s * rng.randint(0, 2))
     return rng.choice(choices)
 
 
-def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3, 6),
-             segment=1500):
-    """Closed-loop stimulus for ``scenario``; returns (inputs per cycle, expected outputs per
-    cycle, the model's trace of latched modes per cycle)."""
-    if scenario not in SCENARIOS:
-        raise ValueError(f"scenario must be one of {SCENARIOS}, not {scenario!r}")
-    n = contract.phases
-    model = GeneratorModel(n, contract.width, rule, max_bits)
-    lin = linear_amplitude(n)
-    mode = MODES.index(scenario) if scenario in MODES else 1
-    bits = rng.choice(bits_choices)
-    period = _period_for(rng, model, mode, bits)
-    osr, policy = rng.choice([1, 2, 4]), rng.randint(0, 1)
-    angle, step = rng.uniform(0, 2 * math.pi), rng.uniform(0.002, 0.05)
-    amplitude, offset = 0.9 * lin, 0.0
-    offered, longest, longest_osr, holding, sync_at = None, 0, 0, False, -1
-    # boundaries: update starts left in a trial, counted once its first beat is taken
-    starts_left, beat_taken, to_mdfqm, trials, first_slot = 0, False, False, 0, False
-    next_change = rng.randint(1, segment)
-    stim = {name: [] for name in INPUTS}
-    expected = {name: [] for name in OUTPUTS}
-    trace = {"mode": [], "long": [], "start": [], "update": [], "rst": []}
-    for cycle in range(cycles):
-        rst = 0
-        if cycle == next_change:                    # runtime settings move, at random cycles
-            next_change += rng.randint(segment // 3, segment)
-            policy = rng.randint(0, 1)
-            osr = rng.choice([1, 2, 4, 1])
-            long_slots = False
-            if scenario in MODES:
-                bits = rng.choice(bits_choices)
-                amplitude = rng.uniform(0.05, 1.0) * lin
-                offset = rng.uniform(-0.3, 0.3)
-                long_slots = mode != 0 and bits <= 2 and rng.random() < 0.3
-            elif scenario in ("overmod", "extremes"):
-                mode = rng.randint(0, len(MODES) - 1)
-                bits = rng.choice(bits_choices)
-                amplitude = rng.uniform(1.0, 2.0) * lin
-                offset = rng.uniform(-0.5, 0.5)
-            period = _period_for(rng, model, mode, bits)
-            if long_slots:      # slots of 1k to 4k clocks: P's bit 12 set, its low bits seen
-                period = rng.randint(LONG_SLOTS_PERIOD, 2 * LONG_SLOTS_PERIOD - 1)
-            if scenario == "limits":
-                mode = rng.choice([*range(len(MODES)), rng.randint(len(MODES), 7)])
-                bits = rng.choice([0, 1, max_bits, max_bits + 1, 15, rng.choice(bits_choices)])
-                if not holding:          # the largest period is held until an update takes it
-                    period = limit_period(rng, model.long_latency,
-                                          cycles - cycle - 2 * model.long_latency, longest)
-                    if period != PERIOD_MAX and rng.random() < 0.5:
-                        period = _period_for(rng, model, min(mode, len(MODES) - 1),
-                                             min(max(bits, 1), max_bits))
-                    longest, holding = max(longest, period), period == PERIOD_MAX
-                if holding:      # the longest update in a slot mode at b = 1 or 2: its slots of
-                    # 16k to 32k clocks set every bit of the slot length and its count-down
-                    mode, bits = rng.randint(1, len(MODES) - 1), rng.choice([1, 2])
-                osr = limit_osr(rng) if longest_osr == OSR_MAX else OSR_MAX   # the largest first
-                longest_osr = max(longest_osr, osr)
-                amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
-        if scenario == "switch" and rng.random() < 1 / 150:
-            mode = rng.choice([0, 0, 1, 2, 3, 4, rng.randint(0, 7)])
-            bits = rng.choice([*bits_choices, rng.randint(0, 15)])
-            period = rng.choice([_period_for(rng, model, mode, min(max(bits, 1), max_bits)),
-                                 rng.randint(0, 2 * model.long_latency), 0])
-            osr = rng.choice([0, 1, 2, 4])
-            amplitude = rng.uniform(0.05, 1.1) * lin
-        if scenario == "handover" and rng.random() < 1 / (1.5 * model.long_latency):
-            mode = rng.choice([0, 0, 0, 1, 2, 3, 4])
-            bits = rng.choice([1, 1, 2, rng.randint(3, max_bits)])
-            policy = int(rng.random() < 0.8)
-            period = rng.choice([0, model.long_latency, model.long_latency + 3])
-            amplitude = rng.uniform(0.0, 0.4) * lin
-        if scenario in RESETS and rng.random() < RESETS[scenario]:
-            rst = 1                                   # reset mid-run
-        if to_mdfqm:      # an MDFQM update after the layout: its zero state follows the last slot's
-            mode, policy, to_mdfqm = 0, 1, False
-        if scenario == "boundaries" and starts_left == 0:
-            rst, beat_taken, trials = 1, False, trials + 1       # a new trial from reset
-            first_slot, turn = trials % 2 == 0, trials // 2
-            starts_left = rng.randint(2, 3)
-            mode = DPWM0 if first_slot else rng.choice([0, 1, 1, 1, 1, 2, 2, 3, 3, 4, 4])
-            bits = (bits_choices[turn % len(bits_choices)] if first_slot
-                    else rng.choice(bits_choices))
-            period = _period_for(rng, model, mode, bits)
-            osr, policy = 1, rng.randint(0, 1)
-            leg = turn // len(bits_choices) % n
-            offered = (first_slot_codes(rng, contract, n, bits, leg) if first_slot
-                       else tie_codes(rng, contract, n) if mode == 0 and rule == "largest_duty"
-                       else boundary_codes(rng, contract, n, bits))
-        if offered is None and rng.random() < 0.7:    # idle gaps between beats
-            angle += step
+class GeneratorSequence(Sequence, family=True):
+    """A sequence of the gating-signal generator (:class:`GeneratorRun`): it sets the runtime
+    ports (``run.settings``), the stream (``run.stream``) and the ``rst`` / ``sync_in`` pins."""
+
+    family = "generator"
+    #: the scenarios it is part of
+    SCENARIOS: tuple = ()
+
+
+class Beats:
+    """The reference stream: a beat held with its payload until accepted, idle clocks between
+    (an FOC loop that honours ``ready``); ``kind`` the codes it offers."""
+
+    def __init__(self, run):
+        self.run, self.rng, self.contract = run, run.rng, run.contract
+        self.kind = "sine"
+        self.angle, self.step = self.rng.uniform(0, 2 * math.pi), self.rng.uniform(0.002, 0.05)
+        self.amplitude, self.offset = 0.9 * run.linear, 0.0
+        self.offered = None
+        self.label = ""
+
+    def offer(self, codes, label: str) -> None:
+        self.offered, self.label = codes, label
+
+    def decide(self) -> None:
+        if self.offered is not None or self.rng.random() >= 0.7:    # idle gaps between beats
+            return
+        rng, c, n = self.rng, self.contract, self.contract.phases
+        self.angle += self.step
+        kind = self.kind
+        if kind == "limits":
             pick = rng.random()
-            if scenario == "boundaries":
-                offered = boundary_codes(rng, contract, n, bits)
-            elif scenario == "extremes" or (scenario == "limits" and pick < 0.3):
-                offered = extreme_codes(rng, contract, n)
-            elif scenario == "limits" and pick < 0.7:
-                offered = grid_codes(rng, contract, n, max(bits, 1))
+            kind = "extreme" if pick < 0.3 else "grid" if pick < 0.7 else "sine"
+        if kind == "extreme":
+            codes = extreme_codes(rng, c, n)
+        elif kind == "grid":
+            codes = grid_codes(rng, c, n, max(self.run.settings["bits"], 1))
+        elif kind == "boundary":
+            codes = boundary_codes(rng, c, n, self.run.settings["bits"])
+        else:
+            codes = sine_codes(c, self.amplitude, self.angle, self.offset)
+        self.offer(codes, kind)
+
+
+# ----------------------------------------------------------------------------- the sequences
+
+
+class HeldMode(GeneratorSequence):
+    """One mode held; every ``segment`` clocks or so b moves among the run's choices, the
+    period to the mode's minimum, a multiple of 2**b or one with remainder clocks (at b = 1
+    or 2 now and then slots of 2k to 4k clocks), OSR, zero policy, amplitude and common mode:
+    each change taken at the next update start."""
+
+    rules = (RESOLUTION, robustness("runtime changes of period / OSR / zero policy / mode"),
+             doc(CONTRACT_MD, "Zero-state policy"))
+    SCENARIOS = MODES
+    POINT = "held mode: update taken"
+
+    @classmethod
+    def coverpoints(cls, run):
+        if run.scenario == "mdfqm":
+            shapes = ("at the minimum", "above the minimum")
+        else:
+            shapes = ("at the minimum", "a multiple of 2**b", "with remainder clocks")
+            shapes += ("slots of 2k to 4k clocks",) if run.cycles >= LONG_SLOTS_RUN else ()
+        bins = (*shapes, "zero policy 0", "zero policy 1")
+        if run.scenario != "mdfqm":
+            bins += tuple(f"b {b}" for b in run.bits_choices)
+        return {cls.POINT: bins}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        mode = MODES.index(run.scenario)
+        s = run.settings
+        s["mode"] = mode
+        while True:
+            open_ = run.coverage.open_bins(self.POINT)
+            bits = [int(b[2:]) for b in open_ if b.startswith("b ")]
+            # slots of 2k to 4k clocks cost two updates of up to 8k clocks: once every b has
+            # been in force
+            long_slots = mode and run.cycles >= LONG_SLOTS_RUN and not bits and (
+                "slots of 2k to 4k clocks" in open_ or rng.random() < 0.3)
+            low_bits = [b for b in run.bits_choices if b <= 2]
+            if long_slots and low_bits:
+                s["bits"] = rng.choice(low_bits)
             else:
-                offered = sine_codes(contract, amplitude, angle, offset)
-        # limits: random syncs in the second half, none while an aimed one is due (it would
-        # cut short the update it aims at)
-        sync_in = int((scenario in SYNCS
-                       and (scenario != "limits" or (cycles // 2 < cycle and sync_at < cycle))
-                       and rng.random() < SYNCS[scenario]) or cycle == sync_at)
-        valid = int(offered is not None)
-        payload = offered or [0] * n
-        trace["mode"].append(model.mode_lat)        # the registers visible in this cycle
-        trace["long"].append(model.long_lat)
-        out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
-                         zero_policy=policy, sync_in=sync_in, mode=mode, bits=bits)
-        if valid and out["ref_ready"] and not rst:
-            offered, beat_taken = None, True
-        holding = holding and not out["start"]
-        if out["start"] and not rst and beat_taken:
-            starts_left = max(0, starts_left - 1)
-            if (scenario == "boundaries" and starts_left == 1 and mode and not first_slot
-                    and rng.random() < 0.75):
-                to_mdfqm, starts_left = True, 2      # from the next clock: see above
-        if scenario == "limits" and out["start"] and cycle > cycles // 2:
-            sync_at = sync_delay(rng, cycle, model.p_lat)
-        for name, value in (("rst", rst), ("ref__valid", valid),
-                            ("ref__payload", pack(payload, contract.width)), ("period", period),
-                            ("osr", osr), ("zero_policy", policy), ("sync_in", sync_in),
-                            ("mode", mode), ("bits", bits)):
-            stim[name].append(value)
-        for port, key in OUTPUTS.items():
-            expected[port].append(out[key])
-        trace["start"].append(out["start"])
-        trace["rst"].append(rst)
-        trace["update"].append(out["update"])
-    return stim, expected, trace
+                s["bits"] = rng.choice(bits or list(run.bits_choices))
+            s["policy"], s["osr"] = rng.randint(0, 1), rng.choice([1, 2, 4, 1])
+            run.stream.amplitude = rng.uniform(0.05, 1.0) * run.linear
+            run.stream.offset = rng.uniform(-0.3, 0.3)
+            shapes = [x for x in SHAPES if x in open_]
+            s["period"] = _period_for(rng, run.model, mode, s["bits"],
+                                      rng.choice(shapes) if shapes else None)
+            if long_slots and s["bits"] <= 2:       # slots of 2k to 4k clocks
+                s["period"] = rng.randint(LONG_SLOTS_PERIOD, 2 * LONG_SLOTS_PERIOD - 1)
+            if open_:           # a few updates of each setting while bins are open
+                yield from run.updates(2 if long_slots else 3)
+            else:
+                yield from run.wait(rng.randint(run.segment // 3, run.segment))
+
+
+class RandomSwitches(GeneratorSequence):
+    """Mode and b (codes not built in and b out of range too), period (below the minimum and 0
+    too), OSR (0 too) and amplitude changing at random clocks: each taken, clamped, at the
+    next update start (mode_clamped, period_clamped for that update)."""
+
+    rules = (robustness("illegal generator mode"),
+             robustness("runtime changes of period / OSR / zero policy / mode"),
+             robustness("update period below the loop latency"), robustness("OSR 0"))
+    SCENARIOS = ("switch",)
+    POINT = "switched settings taken at an update start"
+
+    @classmethod
+    def coverpoints(cls, run):
+        bins = ["mode code not built in", "b 0 in a slot mode", "period below the minimum",
+                "period 0", "OSR 0", *(f"mode {m}" for m in MODES)]
+        if run.model.max_bits < 15:
+            bins.append("b above max_bits in a slot mode")
+        return {cls.POINT: tuple(bins)}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        s = run.settings
+        while True:
+            yield from run.until(lambda: rng.random() < 1 / 150, limit=run.cycles)
+            s["mode"] = rng.choice([0, 0, 1, 2, 3, 4, rng.randint(0, 7)])
+            s["bits"] = rng.choice([*run.bits_choices, rng.randint(0, 15)])
+            open_ = run.coverage.open_bins(self.POINT)
+            if open_ and rng.random() < 0.5:        # aim at a clamp not taken yet
+                pick = rng.choice(open_)
+                if pick == "mode code not built in":
+                    s["mode"] = rng.randint(len(MODES), 7)
+                elif pick.startswith("mode "):
+                    s["mode"] = MODES.index(pick[5:])
+                elif pick.startswith("b "):
+                    s["mode"] = rng.randint(1, len(MODES) - 1)
+                    s["bits"] = 0 if pick.startswith("b 0") else rng.randint(
+                        run.model.max_bits + 1, 15)
+            legal_bits = min(max(s["bits"], 1), run.model.max_bits)
+            s["period"] = rng.choice([_period_for(rng, run.model, min(s["mode"], 4), legal_bits),
+                                      rng.randint(0, 2 * run.model.long_latency), 0])
+            s["osr"] = rng.choice([0, 1, 2, 4])
+            run.stream.amplitude = rng.uniform(0.05, 1.1) * run.linear
+
+
+class SyncPulses(GeneratorSequence):
+    """sync_in pulses at random clocks (one in ``rate``): ignored while the update in flight
+    has not committed, else the next clock starts an update (a slot mode's threshold, its layout
+    cut short)."""
+
+    rules = (robustness("sync_in at any time"), CORE_TIMING)
+    SCENARIOS = ("switch",)
+    POINT = "sync pulse"
+    RATE = 0.02
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("ignored: update in flight", "starts the next update",
+                            "starts the next update in a slot mode")}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        while True:
+            run.sync_in = int(rng.random() < self.RATE)
+            yield
+
+
+class Resets(GeneratorSequence):
+    """A reset now and then, in the middle of an update or of a slot layout: every register
+    to its reset value, the update in flight dropped."""
+
+    rules = (robustness("reset in the middle of an update"),)
+    SCENARIOS = ("switch",)
+    POINT = "reset"
+    RATE = 0.0005
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("in the middle of an update",)}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        while True:
+            if run.coverage.is_open(self.POINT):     # the first one aimed inside an update
+                yield from run.wait(rng.randint(200, 2000))
+                yield from run.until(lambda: run.model.phase > 1, limit=PERIOD_MAX)
+                run.rst = 1
+            else:
+                run.rst = int(rng.random() < self.RATE)
+            yield
+
+
+class Handover(GeneratorSequence):
+    """MDFQM and the slot modes alternating every update or two, mostly small b, mostly the
+    fewest-transitions zero policy, small amplitudes: an MDFQM update right after a layout
+    (its zero state follows the layout's last slot, the update long), a layout right after
+    MDFQM (the last MDFQM state held L_b - L clocks longer)."""
+
+    rules = (RESOLUTION, doc(CONTRACT_MD, "Zero-state policy"))
+    SCENARIOS = ("handover",)
+    POINT = "mode handed over at an update start"
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("MDFQM after a layout, fewest transitions",
+                            "MDFQM after a layout, all-off", "a layout after MDFQM")}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        s, model = run.settings, run.model
+        while True:
+            yield from run.until(lambda: rng.random() < 1 / (1.5 * model.long_latency),
+                                 limit=run.cycles)
+            s["mode"] = rng.choice([0, 0, 0, 1, 2, 3, 4])
+            s["bits"] = rng.choice([1, 1, 2, rng.randint(3, run.model.max_bits)])
+            s["policy"] = int(rng.random() < 0.8)
+            s["period"] = rng.choice([0, model.long_latency, model.long_latency + 3])
+            run.stream.amplitude = rng.uniform(0.0, 0.4) * run.linear
+
+
+class BeyondLinearRange(GeneratorSequence):
+    """References up to twice the linear range with common mode, in random modes: the
+    integrators hold instead of wrapping (saturated for that update)."""
+
+    rules = (robustness("reference beyond the linear range"),
+             robustness("common-mode offset on the reference"))
+    SCENARIOS = ("overmod",)
+    POINT = "update saturated"
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("in MDFQM", "in a slot mode")}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        s = run.settings
+        while True:
+            open_ = run.coverage.open_bins(self.POINT)
+            s["mode"] = (0 if open_ == ["in MDFQM"] else rng.randint(1, len(MODES) - 1)
+                         if open_ == ["in a slot mode"] else rng.randint(0, len(MODES) - 1))
+            s["bits"] = rng.choice(run.bits_choices)
+            s["period"] = _period_for(rng, run.model, s["mode"], s["bits"])
+            s["policy"], s["osr"] = rng.randint(0, 1), rng.choice([1, 2, 4, 1])
+            run.stream.amplitude = rng.uniform(1.0, 2.0) * run.linear
+            run.stream.offset = rng.uniform(-0.5, 0.5)
+            yield from run.pace(self.POINT)
+
+
+class ExtremeCodes(GeneratorSequence):
+    """Beats of the most negative and most positive codes (and the middle of the range), in
+    random modes."""
+
+    rules = (robustness("extreme codes"), robustness("equal references (ties)"))
+    SCENARIOS = ("extremes",)
+    POINT = "extreme beat taken"
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("in MDFQM", "in a slot mode")}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        s = run.settings
+        run.stream.kind = "extreme"
+        while True:
+            open_ = run.coverage.open_bins(self.POINT)
+            s["mode"] = (0 if open_ == ["in MDFQM"] else rng.randint(1, len(MODES) - 1)
+                         if open_ == ["in a slot mode"] else rng.randint(0, len(MODES) - 1))
+            s["bits"] = rng.choice(run.bits_choices)
+            s["period"] = _period_for(rng, run.model, s["mode"], s["bits"])
+            s["policy"], s["osr"] = rng.randint(0, 1), rng.choice([1, 2, 4, 1])
+            yield from run.pace(self.POINT)
+
+
+class SettingsAtTheirLimits(GeneratorSequence):
+    """Every setting at its ends and at the values its clamp changes: period 0, 1, the minimum,
+    a long one and, where the run has room, 2**16 - 1 held in a slot mode at b = 1 or 2 until
+    an update takes it (the largest first); OSR 255 first, then 0, 1, 2, 254, a power of two;
+    mode 0-7, b 0, 1, max_bits, max_bits + 1, 15; beats of extreme codes, on the b-bit grid
+    (the quantiser's decision boundaries), in overmodulation."""
+
+    rules = (robustness("update period below the loop latency"), robustness("OSR 0"),
+             robustness("illegal generator mode"), RESOLUTION)
+    SCENARIOS = ("limits",)
+    POINT = "setting at its limit taken at an update start"
+
+    @classmethod
+    def coverpoints(cls, run):
+        bins = ["period 0", "period 1", "OSR 0", "OSR 255", "mode code not built in", "b 0",
+                "b max_bits", "b 15", "a beat on the b-bit grid"]
+        if run.cycles - 2 * run.model.long_latency > PERIOD_MAX + 4 * run.model.long_latency:
+            bins.append("period 65535 in a slot mode")
+        return {cls.POINT: tuple(bins)}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        s, model = run.settings, run.model
+        run.stream.kind = "limits"
+        longest = longest_osr = 0
+        while True:
+            open_ = run.coverage.open_bins(self.POINT)
+            s["policy"] = rng.randint(0, 1)
+            s["mode"] = rng.choice([*range(len(MODES)), rng.randint(len(MODES), 7)])
+            s["bits"] = rng.choice([0, 1, model.max_bits, model.max_bits + 1, 15,
+                                    rng.choice(run.bits_choices)])
+            if "mode code not built in" in open_:
+                s["mode"] = rng.randint(len(MODES), 7)
+            for value in (0, model.max_bits, 15):
+                if f"b {'max_bits' if value == model.max_bits else value}" in open_:
+                    s["bits"] = value
+                    if s["mode"] == 0 or s["mode"] >= len(MODES):
+                        s["mode"] = rng.randint(1, len(MODES) - 1)
+                    break
+            run.stream.kind = "grid" if "a beat on the b-bit grid" in open_ else "limits"
+            if not run.holding:      # the largest period is held until an update takes it
+                s["period"] = limit_period(rng, model.long_latency,
+                                           run.cycles - run.cycle - 2 * model.long_latency,
+                                           longest)
+                for value in (0, 1):
+                    if f"period {value}" in open_ and s["period"] != PERIOD_MAX:
+                        s["period"] = value
+                if s["period"] != PERIOD_MAX and rng.random() < 0.5:
+                    s["period"] = _period_for(rng, model, min(s["mode"], len(MODES) - 1),
+                                              min(max(s["bits"], 1), model.max_bits))
+                longest = max(longest, s["period"])
+                run.holding = s["period"] == PERIOD_MAX
+            if run.holding:      # the longest update in a slot mode at b = 1 or 2: slots of
+                # 16k to 32k clocks
+                s["mode"], s["bits"] = rng.randint(1, len(MODES) - 1), rng.choice([1, 2])
+            s["osr"] = limit_osr(rng) if longest_osr == OSR_MAX else OSR_MAX   # the largest first
+            if longest_osr == OSR_MAX and "OSR 0" in open_:
+                s["osr"] = 0
+            longest_osr = max(longest_osr, s["osr"])
+            run.stream.amplitude = rng.uniform(0.0, 2.0) * run.linear
+            run.stream.offset = rng.uniform(-0.5, 0.5)
+            yield from run.pace(self.POINT)
+
+
+class SyncAtPowersOfTwo(GeneratorSequence):
+    """Sync pulses now and then, and one aimed at a power of two of an update's phase (the
+    largest inside it half the time), give or take a few clocks; none while the longest
+    update is held (it would be cut short) and no random one while an aimed one is due."""
+
+    rules = (robustness("sync_in at any time"), CORE_TIMING)
+    SCENARIOS = ("limits",)
+    POINT = "sync pulse at an update's phase"
+
+    @classmethod
+    def coverpoints(cls, run):
+        bins = ("ignored: update in flight", "starts the next update")
+        if run.cycles >= LONG_SLOTS_RUN:        # room for updates of 256 clocks and more
+            bins += ("a power of two of 256 or more",)
+        return {cls.POINT: bins}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        due = -1
+        while True:
+            quiet = run.holding or due >= run.cycle
+            run.sync_in = int(run.cycle == due or (not quiet and rng.random() < 0.0005))
+            if run.model.phase == 0 and not run.holding:
+                due = sync_delay(rng, run.cycle, run.model.p_lat)
+                run.aimed_sync = due
+            yield
+
+
+class FirstUpdateFromReset(GeneratorSequence):
+    """Short trials from reset: from empty integrators the first update's instants sit
+    exactly on the quantiser's decision boundaries (every beat on the half-slot grid) and the
+    duty sort's ties; each mode at its shortest periods (svpwm twice as often), 3 in 4
+    slot-mode trials ending with MDFQM updates (the fewest-transitions zero state after a
+    layout); every other trial a dpwm0 one whose beat turns a chosen leg on at the first slot
+    boundary (its b and leg in turn); MDFQM trials on a beat whose largest candidates tie."""
+
+    rules = (RESOLUTION, robustness("equal references (ties)"),
+             robustness("reset in the middle of an update"))
+    SCENARIOS = ("boundaries",)
+    POINT = "trial from reset"
+
+    @classmethod
+    def coverpoints(cls, run):
+        bins = [f"first beat into {m}" for m in MODES]
+        bins += [f"dpwm0 leg {leg} on at the first slot boundary"
+                 for leg in range(min(run.contract.phases, run.cycles // 1500))]
+        bins += ["MDFQM after the layout"]
+        return {cls.POINT: tuple(bins)}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        s, model, c = run.settings, run.model, run.contract
+        trials = 0
+        while True:
+            trials += 1
+            first_slot, turn = trials % 2 == 0, trials // 2
+            tried = [m for m in MODES if f"first beat into {m}" in
+                     run.coverage.open_bins(self.POINT)]
+            mode = DPWM0 if first_slot else MODES.index(rng.choice(tried)) if tried else (
+                rng.choice([0, 1, 1, 1, 1, 2, 2, 3, 3, 4, 4]))
+            bits = (run.bits_choices[turn % len(run.bits_choices)] if first_slot
+                    else rng.choice(run.bits_choices))
+            s.update(mode=mode, bits=bits, period=_period_for(rng, model, mode, bits), osr=1,
+                     policy=rng.randint(0, 1))
+            run.stream.kind = "boundary"
+            legs = [int(b.split()[2]) for b in run.coverage.open_bins(self.POINT)
+                    if b.startswith("dpwm0 leg")]
+            leg = legs[0] if legs else turn // len(run.bits_choices) % c.phases
+            run.rst = 1
+            run.trial = ("first slot", leg) if first_slot else ("mode", mode)
+            run.stream.offer(first_slot_codes(rng, c, c.phases, bits, leg) if first_slot
+                             else tie_codes(rng, c, c.phases)
+                             if mode == 0 and model.rule == "largest_duty"
+                             else boundary_codes(rng, c, c.phases, bits), "first")
+            yield
+            starts = rng.randint(2, 3)
+            taken = yield from run.until(lambda: run.beats_taken > 0, limit=4 * PERIOD_MAX)
+            if taken:
+                yield from run.updates(starts - (1 if mode and not first_slot else 0))
+            if mode and not first_slot and rng.random() < 0.75:
+                s["mode"], s["policy"] = 0, 1     # the MDFQM update after the layout
+                yield from run.updates(2)
+
+
+class StreamHonoursReady(GeneratorSequence):
+    """The reference stream of every scenario: a beat offered with idle gaps, held with its
+    payload while ``ready`` is low (one beat pending), taken once ready."""
+
+    rules = (robustness("a reference beat while one is pending"),)
+    SCENARIOS = SCENARIOS
+    POINT = "reference beat"
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("held while ready is low", "taken")}
+
+    def body(self):
+        while True:
+            self.run.stream.decide()
+            yield
+
+
+class GeneratorRun:
+    """One scenario of the generator: the model, the runtime ports, the stream, the pins, the
+    scenario's sequences and the coverage (see the module docstring)."""
+
+    def __init__(self, rng, scenario, contract, rule, max_bits, cycles, bits_choices, segment,
+                 coverage=None):
+        if scenario not in SCENARIOS:
+            raise ValueError(f"scenario must be one of {SCENARIOS}, not {scenario!r}")
+        self.rng, self.scenario, self.contract = rng, scenario, contract
+        self.cycles, self.bits_choices, self.segment = cycles, tuple(bits_choices), segment
+        self.model = GeneratorModel(contract.phases, contract.width, rule, max_bits)
+        self.linear = linear_amplitude(contract.phases)
+        mode = MODES.index(scenario) if scenario in MODES else 1
+        bits = rng.choice(self.bits_choices)
+        self.settings = {"period": _period_for(rng, self.model, mode, bits), "mode": mode,
+                         "bits": bits, "osr": rng.choice([1, 2, 4]),
+                         "policy": rng.randint(0, 1)}
+        self.stream = Beats(self)
+        self.rst = self.sync_in = 0
+        self.cycle = self.starts = self.beats_taken = 0
+        self.holding = False           # the largest period held until an update takes it
+        self.aimed_sync = -1
+        self.trial = None
+        self.first_layout = False      # a first-slot trial's layout not presented yet
+        self.coverage = Coverage() if coverage is None else coverage
+        self.sequences = [s(self) for s in GeneratorSequence.registry if scenario in s.SCENARIOS]
+        for sequence in self.sequences:
+            for point, bins in sequence.coverpoints(self).items():
+                self.coverage.want(point, bins, sequence.key())
+        self.bodies = [s.body() for s in self.sequences]
+
+    # --------------------------------------------------------------- what sequences use
+    def wait(self, clocks: int):
+        for _ in range(clocks):
+            yield
+
+    def until(self, predicate, limit: int):
+        for _ in range(limit):
+            if predicate():
+                return True
+            yield
+        return False
+
+    def updates(self, n: int):
+        """Wait until ``n`` more update starts have passed."""
+        target = self.starts + n
+        yield from self.until(lambda: self.starts >= target, limit=4 * PERIOD_MAX)
+
+    def pace(self, point: str):
+        """The wait before the next change of the settings: two updates while ``point`` has
+        bins open (each change taken and played), else a third of a segment to a segment."""
+        if self.coverage.is_open(point):
+            yield from self.updates(2)
+        else:
+            yield from self.wait(self.rng.randint(self.segment // 3, self.segment))
+
+    def hit(self, point, bin_):
+        self.coverage.hit(point, bin_)
+
+    # ---------------------------------------------------------------------- one clock
+    def generate(self):
+        stim = {name: [] for name in INPUTS}
+        expected = {name: [] for name in OUTPUTS}
+        trace = {"mode": [], "long": [], "start": [], "update": [], "rst": []}
+        model, s = self.model, self.settings
+        for _ in range(self.cycles):
+            self.rst = self.sync_in = 0
+            for body in self.bodies:
+                next(body)
+            offered = self.stream.offered
+            valid = int(offered is not None)
+            payload = offered or [0] * self.contract.phases
+            start = model.phase == 0
+            self._before(valid, payload, start)
+            trace["mode"].append(model.mode_lat)     # the registers visible in this clock
+            trace["long"].append(model.long_lat)
+            out = model.step(rst=self.rst, ref_valid=valid, ref=payload, period=s["period"],
+                             osr=s["osr"], zero_policy=s["policy"], sync_in=self.sync_in,
+                             mode=s["mode"], bits=s["bits"])
+            if valid and out["ref_ready"] and not self.rst:
+                self.stream.offered = None
+                self.beats_taken += 1
+            if self.rst:
+                self.beats_taken, self.first_layout = 0, False
+            self.holding = self.holding and not out["start"]
+            if out["start"] and not self.rst:
+                self.starts += 1
+            self._after(out, start)
+            for name, value in (("rst", self.rst), ("ref__valid", valid),
+                                ("ref__payload", pack(payload, self.contract.width)),
+                                ("period", s["period"]), ("osr", s["osr"]),
+                                ("zero_policy", s["policy"]), ("sync_in", self.sync_in),
+                                ("mode", s["mode"]), ("bits", s["bits"])):
+                stim[name].append(value)
+            for port, key in OUTPUTS.items():
+                expected[port].append(out[key])
+            trace["start"].append(out["start"])
+            trace["rst"].append(self.rst)
+            trace["update"].append(out["update"])
+            self.cycle += 1
+        return stim, expected, trace
+
+    # ------------------------------------------------------------------------ coverage
+    def _before(self, valid, payload, start) -> None:
+        """What the registers of this clock and its inputs show."""
+        m = self.model
+        if valid and not m.ref_ready:
+            self.hit(StreamHonoursReady.POINT, "held while ready is low")
+        elif valid and not self.rst:
+            self.hit(StreamHonoursReady.POINT, "taken")
+            self._beat(payload)
+        if self.rst:
+            if not start:
+                self.hit(Resets.POINT, "in the middle of an update")
+            return
+        if self.sync_in:
+            threshold = m.long_latency if m.long_lat else m.latency
+            restarts = not start and m.phase + 1 >= threshold
+            self.hit(SyncPulses.POINT, "starts the next update" if restarts
+                     else "ignored: update in flight")
+            if restarts and m.mode_lat:
+                self.hit(SyncPulses.POINT, "starts the next update in a slot mode")
+            self.hit(SyncAtPowersOfTwo.POINT, "starts the next update" if restarts
+                     else "ignored: update in flight")
+            if self.cycle == self.aimed_sync and m.p_lat >= 256:
+                self.hit(SyncAtPowersOfTwo.POINT, "a power of two of 256 or more")
+        if start:
+            self._start()
+
+    def _start(self) -> None:
+        """The update start of this clock: what it takes, clamped (docs/contract.md)."""
+        m, s = self.model, self.settings
+        mode, b, _ = latch_mode(s["mode"], s["bits"], m.max_bits)
+        long = bool(mode or m.prev_bbit)
+        low = min_period(long, b, m.latency, m.long_latency)
+        period = max(s["period"], low)
+        point = HeldMode.POINT
+        if not mode:
+            self.hit(point, "at the minimum" if period == low else "above the minimum")
+        elif period == low:
+            self.hit(point, "at the minimum")
+        elif period % (1 << b) == 0:
+            self.hit(point, "a multiple of 2**b")
+        else:
+            self.hit(point, "with remainder clocks")
+        if mode and b <= 2 and period >= LONG_SLOTS_PERIOD:
+            self.hit(point, "slots of 2k to 4k clocks")
+        self.hit(point, f"zero policy {s['policy']}")
+        if mode:
+            self.hit(point, f"b {b}")
+        switched = RandomSwitches.POINT
+        if s["mode"] >= len(MODES):
+            self.hit(switched, "mode code not built in")
+            self.hit(SettingsAtTheirLimits.POINT, "mode code not built in")
+        elif s["mode"]:
+            if s["bits"] == 0:
+                self.hit(switched, "b 0 in a slot mode")
+            elif s["bits"] > m.max_bits:
+                self.hit(switched, "b above max_bits in a slot mode")
+        self.hit(switched, f"mode {MODES[mode]}")
+        if s["period"] < low:
+            self.hit(switched, "period below the minimum")
+        if s["period"] == 0:
+            self.hit(switched, "period 0")
+        if s["osr"] == 0:
+            self.hit(switched, "OSR 0")
+        limits = SettingsAtTheirLimits.POINT
+        for name, hit in (("period 0", s["period"] == 0), ("period 1", s["period"] == 1),
+                          ("OSR 0", s["osr"] == 0), ("OSR 255", s["osr"] == OSR_MAX),
+                          ("b 0", s["bits"] == 0), ("b max_bits", s["bits"] == m.max_bits),
+                          ("b 15", s["bits"] == 15),
+                          ("period 65535 in a slot mode", s["period"] == PERIOD_MAX and mode)):
+            if hit:
+                self.hit(limits, name)
+        handover = Handover.POINT
+        if mode == 0 and m.prev_bbit:
+            self.hit(handover, "MDFQM after a layout, fewest transitions" if s["policy"]
+                     else "MDFQM after a layout, all-off")
+            if self.trial and self.trial[0] == "mode":
+                self.hit(FirstUpdateFromReset.POINT, "MDFQM after the layout")
+        if mode and not m.prev_bbit and m.mode_lat == 0:
+            self.hit(handover, "a layout after MDFQM")
+
+    def _beat(self, payload) -> None:
+        """What a beat taken in this clock is."""
+        m = self.model
+        if self.stream.label == "grid":
+            self.hit(SettingsAtTheirLimits.POINT, "a beat on the b-bit grid")
+        if self.stream.label == "extreme":
+            self.hit(ExtremeCodes.POINT, "in a slot mode" if m.mode_lat else "in MDFQM")
+        if self.stream.label == "first" and self.trial is not None and not any(m.x):
+            kind, which = self.trial
+            self.hit(FirstUpdateFromReset.POINT,
+                     f"first beat into {MODES[which] if kind == 'mode' else 'dpwm0'}")
+            self.first_layout = kind == "first slot"
+
+    def _after(self, out, start) -> None:
+        """What the clock presented: a saturated update, the first layout of a trial."""
+        m = self.model
+        if not m.update:
+            return
+        if m.saturated:
+            self.hit(BeyondLinearRange.POINT, "in a slot mode" if m.mode_lat else "in MDFQM")
+        if self.first_layout and m.mode_lat == DPWM0 and len(m.slots) > 1:
+            leg = self.trial[1]
+            if not (m.slots[0] >> leg) & 1 and (m.slots[1] >> leg) & 1:
+                self.hit(FirstUpdateFromReset.POINT,
+                         f"dpwm0 leg {leg} on at the first slot boundary")
+                self.first_layout = False
+
+
+def generate(rng, scenario, contract, rule, max_bits, cycles, bits_choices=(1, 3, 6),
+             segment=1500, coverage=None):
+    """Closed-loop stimulus for ``scenario``; returns (inputs per cycle, expected outputs per
+    cycle, the model's trace of latched modes per cycle). ``coverage``, a
+    :class:`~mdfqm_testkit.coverage.Coverage` if given, receives the scenario's goals and
+    hits (the caller asserts what it needs)."""
+    run = GeneratorRun(rng, scenario, contract, rule, max_bits, cycles, bits_choices, segment,
+                       coverage)
+    return run.generate()
 
 
 def generate_core(rng, scenario, contract, rule, cycles):

@@ -7,10 +7,12 @@ Both take accesses from a queue, in order, and play them on the bus clock by clo
 :meth:`inputs` gives the bus inputs of the clock and :meth:`observe` takes the front's outputs
 of the same clock. An access is an :class:`Access` (a plain ``(address, write, data)`` tuple is
 one too). Its ``aim``, if any, holds the access back until the moment it names: the Wishbone
-master raises ``stb`` only in a clock for which ``aim.now()`` is true (the request clock is the
-access, docs/top.md), the AXI4-Lite master raises W (its last channel) only in a clock for which
-``aim.next()`` is true and keeps ``bready`` high meanwhile, so that the write is issued in the
-next clock. Whether the access met its moment is for the caller to measure.
+master starts it (``cyc`` and ``stb`` together) only in a clock for which ``aim.now()`` is true
+(the request clock is the access, docs/top.md), the AXI4-Lite master raises its AW and W only in
+a clock for which ``aim.next()`` is true and keeps ``bready`` high until its response, so that
+the write is issued in the next clock. Meanwhile the accesses queued behind it go first (a
+firmware waiting for an event still serves the bus). Whether the access met its moment is for
+the caller to measure.
 
 How each master meets the rules the fronts must stand (docs/robustness.md, the Wishbone and
 AXI4-Lite rows) is its :class:`WishbonePolicy` / :class:`AxiLitePolicy`: ``cyc`` raised before
@@ -77,8 +79,28 @@ class AxiLitePolicy:
     depth: int = 2
 
 
+#: queued accesses a master looks at for one that may go (an aimed one waits for its moment)
+LOOK = 4
+
+
 def _access(op) -> Access:
     return op if isinstance(op, Access) else Access(*op)
+
+
+def _take(ops: deque, due, idle: bool, startable=lambda access: True):
+    """The first of the queued ``ops`` (of the first :data:`LOOK`) that may start now: an
+    unaimed one once the master's idle gap is over (``idle``), an aimed one when ``due`` (its
+    moment does not wait for the gap); an unaimed one that cannot start (``startable``) stops
+    the search, so that unaimed accesses keep their order. Removed from ``ops``."""
+    for index, op in enumerate(list(ops)[:LOOK]):
+        access = _access(op)
+        if access.aim is not None and not due(access.aim):
+            continue
+        if (access.aim is None and not idle) or not startable(access):
+            return None
+        del ops[index]
+        return access
+    return None
 
 
 class WishboneMaster:
@@ -98,15 +120,16 @@ class WishboneMaster:
 
     def inputs(self, ops: deque) -> dict:
         rng, policy = self.rng, self.policy
-        if self.current is None and self.gap == 0 and ops:
-            self.current, self.lead = _access(ops.popleft()), rng.choice(policy.leads)
+        if self.current is None and ops:
+            self.current = _take(ops, lambda aim: aim.now(), self.gap == 0)
+            if self.current is not None:
+                self.lead = 0 if self.current.aim is not None else rng.choice(policy.leads)
         op = self.current
         if op is None:
             adr, we, dat = rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32)
             cyc, stb = rng.choice(policy.idle)
         else:
-            due = self.lead == 0 and (op.aim is None or op.aim.now())
-            cyc, stb = 1, int(due)
+            cyc, stb = 1, int(self.lead == 0)
             self.lead = max(0, self.lead - 1)
             adr, we, dat = op.address, op.write, op.data
         return {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr, "wb_dat_w": dat,
@@ -125,6 +148,10 @@ class WishboneMaster:
             self.gap -= 1
         return None
 
+    def issued_write(self) -> Access | None:
+        """The write the front issues in this clock, when it issues one."""
+        return self.current
+
     def abort(self) -> None:
         self.current, self.gap = None, 0
 
@@ -134,8 +161,8 @@ class AxiLiteMaster:
     own random delays and held, with their payload, until taken; the next write's AW/W (read's
     AR) may start while the previous one waits for its response, so responses meet
     back-pressure with the next access ready; ``bready`` and ``rready`` at random (held high
-    while an aimed write waits, so that it is issued the clock after its W); random payloads on
-    idle channels."""
+    while an aimed write is in flight, so that it is issued the clock after its AW and W);
+    random payloads on idle channels."""
 
     def __init__(self, rng, policy: AxiLitePolicy | None = None):
         self.rng, self.policy = rng, policy or AxiLitePolicy()
@@ -154,24 +181,32 @@ class AxiLiteMaster:
         """The op of ``ops`` still in its address/data phase, if any (the newest)."""
         return ops[-1] if ops and not set(channels) <= ops[-1]["done"] else None
 
-    def _raised(self, op, channel) -> int:
-        if op is None or channel in op["done"] or op["wait"][channel] > 0:
-            return 0
-        aim = op["access"].aim
-        return int(channel != "w" or aim is None or aim.next())
+    @staticmethod
+    def _raised(op, channel) -> int:
+        return int(op is not None and channel not in op["done"] and op["wait"][channel] <= 0)
+
+    def _free(self, access) -> bool:
+        """Whether ``access`` can start: its channels free and room in flight; an aimed write
+        only with no write in flight (the holding registers and B free, so that it is issued
+        the clock after its AW and W)."""
+        if access.write and access.aim is not None:
+            return not self.writes
+        queue, channels = ((self.writes, ("aw", "w")) if access.write
+                           else (self.reads, ("ar",)))
+        return self._addressing(queue, channels) is None and len(queue) < self.policy.depth
 
     def inputs(self, ops: deque) -> dict:
         rng, policy = self.rng, self.policy
-        while self.gap == 0 and ops:
-            access = _access(ops[0])
-            queue, channels = ((self.writes, ("aw", "w")) if access.write
-                               else (self.reads, ("ar",)))
-            if self._addressing(queue, channels) is not None or len(queue) >= policy.depth:
+        while ops:
+            access = _take(ops, lambda aim: aim.next(), self.gap == 0, self._free)
+            if access is None:
                 break
-            ops.popleft()
-            queue.append({"access": access, "adr": access.address * 4 + rng.randrange(4),
-                          "done": set(),
-                          "wait": {ch: rng.choice(policy.waits) for ch in channels}})
+            channels = ("aw", "w") if access.write else ("ar",)
+            adr = access.address * 4 + rng.randrange(4)
+            waits = {ch: 0 if access.aim is not None else rng.choice(policy.waits)
+                     for ch in channels}
+            (self.writes if access.write else self.reads).append(
+                {"access": access, "adr": adr, "done": set(), "wait": waits})
         w = self._addressing(self.writes, ("aw", "w"))
         r = self._addressing(self.reads, ("ar",))
         self.current = {"aw": w, "w": w, "ar": r}
@@ -198,7 +233,7 @@ class AxiLiteMaster:
                 continue
             if self.raised[ch] and out[f"s_axi_{ch}ready"]:
                 op["done"].add(ch)
-            elif not self.raised[ch] and op["wait"][ch] > 0:
+            elif not self.raised[ch]:
                 op["wait"][ch] -= 1
         done = None
         self.completed = []
@@ -215,6 +250,15 @@ class AxiLiteMaster:
         elif self.gap:
             self.gap -= 1
         return done
+
+    def issued_write(self) -> Access | None:
+        """The write the front issues in this clock, when it issues one: the oldest whose AW
+        and W were taken and that was not issued yet (the front issues them in order)."""
+        for op in self.writes:
+            if not op.get("issued"):
+                op["issued"] = True
+                return op["access"]
+        return None
 
     def abort(self) -> None:
         self.writes.clear()

@@ -1,337 +1,883 @@
 """Closed-loop stimulus for the drop-in top (either front, any size), with the expected
-outputs from :class:`mdfqm_model.top.TopModel`: used by the drop-in files' vector runs
-(tb/test_dropin_files.py) and the top's long vector regression (tb/test_top_vectors.py)."""
+outputs from :class:`mdfqm_model.top.TopModel`: used by the top's vector regression
+(tb/test_top_vectors.py), the drop-in files' and the netlists' vector runs
+(tb/test_dropin_files.py, tb/test_postsynth.py) and the mutation campaign (tools/mutate).
 
+The stimulus is the specification's rules as small named sequences
+(:mod:`mdfqm_testkit.top_sequences`: one per row of docs/robustness.md, per register field and
+clamp of spec/rdl/mdfqm_top.rdl, per timing rule of docs/top.md), which :class:`TopRun`
+schedules among random background traffic (reads of any word, writes to words that hold no
+writable register, a reference stream from an FOC loop that honours ``ready``), preferring those
+whose coverpoints are still open, so that a run closes its coverage by aiming, not by length.
+The golden model is stepped clock by clock while generating: a sequence waits for the moment it
+aims at (an update start, a beat's acceptance, the fault latch setting, a gate turn-on, ...),
+read from the model's state or from a copy stepped ahead, and the coverpoints are hit from
+what the model shows in each clock, never from what a sequence meant.
+"""
+
+from __future__ import annotations
+
+import copy
 import math
 from collections import deque
+from itertools import count
 
 from mdfqm_model.top import TopModel
+from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec import regmap as regs
-from mdfqm_spec.contract import MODES, Contract
+from mdfqm_spec.bus import mapped_words
+from mdfqm_spec.contract import MODES, latch_mode
+from mdfqm_testkit import top_sequences as seq
 from mdfqm_testkit.bbit_stimulus import boundary_codes, tie_codes
-from mdfqm_testkit.core_stimulus import extreme_codes, sine_codes
+from mdfqm_testkit.bus_masters import MASTERS, Access
+from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes
+from mdfqm_testkit.coverage import Coverage, band, bands
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.vectors import ports_of
 
-#: (cyc, stb) of an idle Wishbone master clock: neither, cyc alone, stb alone (never a request)
-IDLE_WISHBONE = ((0, 0), (0, 0), (1, 0), (0, 1))
+#: sequences running at once, at most (besides background traffic)
+CONCURRENT = 4
+#: chance per clock that the scheduler starts a sequence while fewer run
+START_RATE = 0.05
+#: how much more often a sequence with open coverpoints is drawn
+OPEN_BOOST = 8.0
+#: chance per idle bus clock of a background access
+BACKGROUND_RATE = 0.01
 
 
-#: the events a register write or command can meet in one clock (``census`` of top_stimulus)
-COINCIDENT = ("beat", "fault", "sync", "turn_on")
+class Aim:
+    """The moment an access is held for: ``moment(k)`` tells whether the event happens ``k``
+    clocks from now; ``lead`` clocks before it is the access's clock. ``patience`` clocks
+    later the access goes anyway (the moment may never come: the gates disabled, ...)."""
+
+    def __init__(self, run, moment, lead: int, patience: int, unless=None):
+        self.run, self.moment, self.lead = run, moment, lead
+        self.deadline = run.cycle + patience
+        self.unless = unless
+
+    def _given_up(self) -> bool:
+        return self.run.cycle >= self.deadline or bool(self.unless and self.unless())
+
+    def now(self) -> bool:
+        """The access issued in this clock meets the moment (Wishbone: the request clock)."""
+        return self._given_up() or self.moment(self.lead)
+
+    def next(self) -> bool:
+        """The access issued in the next clock meets it (AXI4-Lite: AW and W raised in this
+        one)."""
+        return self._given_up() or self.moment(self.lead + 1)
 
 
-def top_stimulus(rng, component, phases, width, cycles, census=None):
-    """The drop-in top under a bus master (one access at a time, random gaps and ready stalls;
-    Wishbone or AXI4-Lite as the component's), a reference stream that reacts to ``ready``
-    (sines from near zero into overmodulation, extreme codes, ties), a fault pulse and its
-    clear, a stall of the stream (the watchdog on at times, TIMEOUT 1, 2 or 8 at its start,
-    WATCHDOG_TRIPS polled back to back and the latch cleared now and then meanwhile),
-    sync pulses and a reset in the middle and four more (after each reset, a beat whose largest
-    candidates tie), and eight reset trials on the b-bit grid (a slot mode written, then one
-    beat on the half-slot grid into empty integrators: the quantiser's decision boundaries);
-    periods of 20-27 clocks (around the slot modes' minimum), 90-170, 300-1100 with the ADC
-    trigger anywhere in them, and now and then 4400-6000 with it past 4096 or 8400-9000 with
-    it past 8192; on Wishbone,
-    ``cyc`` or ``stb`` alone while idle and ``cyc`` raised before ``stb`` at times; the settings
-    make the gates switch within a few thousand clocks; MODULATION written now and then (any
-    mode code, any b code, mostly small); a burst of back-to-back
-    commands and clears (``CMD`` with random bits, ``IRQ_STATUS`` write-1-to-clear, settings)
-    under frequent fault and sync pulses, so that writes land in the same clock as the other
-    events; every register written at and beyond its clamps and read back, the gates disabled
-    meanwhile; in a run of 200 000 clocks or more, after the burst, one update longer than
-    32768 clocks with the ADC trigger in its upper half, in a shorter one with 8600 clocks or
-    more left then, one of 9000 with it past 8192. Returns (inputs, expected outputs) by
-    port, and the set of modes that were in force in some clock. ``census``, a dict if given,
-    counts the clocks where a register write (``write``) or a ``CMD`` write (``command``) is
-    issued together with each of :data:`COINCIDENT`: a reference beat taken, the fault input
-    high, a sync pulse, a gate turning on; keys like ``("command", "beat")``."""
-    axi = component.bus == "axi4lite"
-    model = TopModel(phases, width, component.rule, component.dead_min,
-                     component.upper_active_low, component.lower_active_low, bus=component.bus,
-                     counter_width=component.counter_width, max_bits=component.max_bits,
-                     asc=component.asc)
-    contract = Contract(phases, width)
-    inputs, outputs = ports_of(component)
-    stim = {port: [] for port, _ in inputs}
-    expected = {port: [] for port, _ in outputs}
-    amplitude = 0.5                     # of Vdc
+class StreamSource:
+    """The FOC loop's reference stream: a beat held with its payload until accepted, idle clocks
+    between; balanced sines whose amplitude drifts from near zero into overmodulation, with
+    beats of extreme codes and ties mixed in, or the kind a sequence asks for (``kind``);
+    ``eager`` offers a beat in every clock, ``stalled`` none (a controller that stopped)."""
 
-    hold = 0        # no restore of the settings, no random sync before this cycle: a long update
-                    # runs out (the aimed syncs below come regardless)
-    longer_drawn = False
+    KINDS = ("sine", "overmodulation", "common mode", "extreme", "ties")
 
-    def settings(now):
-        nonlocal hold, longer_drawn
-        # now and then updates longer than 4096 clocks with the ADC trigger past 4096 (the
-        # trigger counter's upper bits), left alone (no restore, no sync) for two of them
-        long = rng.random() < 0.1 and not missing_modes()     # (a long one holds a mode)
-        # the first of them and a third of the others past 8192 with the trigger there too
-        # (the counter's bit 13)
-        longer = long and (not longer_drawn or rng.random() < 1 / 3)
-        longer_drawn |= longer
-        # medium ones with the trigger anywhere in them (the counter's bits 8-10), or short
-        # ones: 20 to 27 clocks is below the slot modes' 2**b at b = 5 and above it at b <= 4
-        # (the minimum there is the long latency, 20)
-        medium = not long and rng.random() < 0.15
-        period = (rng.randint(8400, 9000) if longer else rng.randint(4400, 6000) if long
-                  else rng.randint(300, 1100) if medium
-                  else rng.choice([90, 130, 170, rng.randint(20, 27)]))
-        if long:
-            hold = now + 2 * period
-        return deque([(regs.IRQ_ENABLE, 1, regs.IRQ_MASK), (regs.OSR, 1, rng.choice([1, 2])),
-                      (regs.PERIOD, 1, period),
-                      # a dead time at the floor (0 acts as dead_min) or above it
-                      (regs.DEAD, 1, rng.choice([0, component.dead_min,
-                                                 component.dead_min + rng.randrange(1, 24)])),
-                      (regs.MIN_PULSE, 1, rng.randrange(8)),
-                      (regs.ADC_OFFSET, 1, rng.randint(8192 if longer else 4096, period - 1)
-                       if long
-                       else rng.randrange(period) if medium else rng.randrange(100)),
-                      (regs.WATCHDOG, 1, rng.choice([0, 2, 4, 8])),
-                      # each source's reaction, any code (3 stores all off)
-                      (regs.FAULT_REACTION, 1, rng.randrange(16)),
-                      (regs.CTRL, 1, regs.CTRL_ENABLE | rng.randint(0, 1) * regs.CTRL_ZERO_POLICY)])
+    def __init__(self, run):
+        self.run, self.rng = run, run.rng
+        self.contract = run.model.contract
+        self.phases = run.model.phases
+        self.kind, self.eager, self.stalled = "sine", False, False
+        self.offered: list | None = None
+        self.label = ""
+        self.angle = self.rng.uniform(0, 2 * math.pi)
+        self.amplitude = 0.5
 
-    def random_write():
-        """Any word to any address, but a dead time or minimum pulse of at most 63 clocks: a
-        dead time in force is never shortened (docs/top.md), so one of 65535 clocks would stop
-        the gates for the rest of a run."""
-        address = rng.randrange(64)
-        data = rng.choice([0, 1, 3, 90, 0xFFFF]) if rng.random() < 0.3 else rng.getrandbits(32)
-        if address in (regs.DEAD, regs.MIN_PULSE):
-            data &= 0x3F
-        return address, 1, data
+    def sine_codes(self, amplitude=None, offset=0.0):
+        self.angle += 0.05
+        return sine_codes(self.contract, self.amplitude if amplitude is None else amplitude,
+                          self.angle, offset)
 
-    def limit_writes(now):
-        """Every register at and beyond the values its clamp changes (docs/top.md, "Every
-        clamp"), each read back, with the gates disabled (a dead time or minimum pulse of
-        65535 clocks never in force), then the settings again."""
-        big = (0xFFFF, 0x10000, 0xFFFFFFFF)
-        # walking ones (over the whole word) and zeros: a stuck or swapped bit of a register or
-        # of its clamp's compare shows
-        walk16 = (*(1 << k for k in range(32)), *(0xFFFF ^ (1 << k) for k in range(16)))
-        walk8 = (*(w for k in range(8) for w in (1 << k, 0xFF ^ (1 << k))),
-                 *(1 << k for k in range(8, 32)))
-        codes = (contract.code_max, contract.code_max + 1, contract.code_min,
-                 contract.code_min - 1, (1 << 31) - 1, -(1 << 31),
-                 # a single one in a positive word, a single zero in a negative one: each bit
-                 # of the clamp's in-range test decides alone
-                 *(1 << k for k in range(contract.width - 1, 31)),
-                 *(~(1 << k) for k in range(contract.width - 1, 31)))
-        values = {regs.PERIOD: (0, 1, *big, *walk16),
-                  regs.OSR: (0, 1, 255, 256, 0xFFFFFFFF, *walk8),
-                  regs.DEAD: (0, 1, *big, *walk16), regs.MIN_PULSE: (0, *big, *walk16),
-                  regs.ADC_OFFSET: (0, *big, *walk16), regs.WATCHDOG: (1, *big, *walk16, 0),
-                  regs.MODULATION: (0xFFFFFFFF, 0), regs.IRQ_ENABLE: (0xFFFFFFFF,),
-                  regs.FAULT_REACTION: (0xFFFFFFFF, 0b0101, 0b1010, 0b0111, 0b1101, 0),
-                  regs.CTRL: (0xFFFFFFFF & ~regs.CTRL_ENABLE,),
-                  **{regs.REF_BASE + i: tuple(pack([c], 32) for c in codes)
-                     for i in range(phases)}}
-        writes = deque([(regs.CTRL, 1, 0)])
-        for address, words in values.items():
-            for word in words:
-                writes += [(address, 1, word), (address, 0, 0)]
-        return writes + settings(now)
-
-    mode_codes = []
-    modes = set()
-
-    def missing_modes():
-        built = len(MODES) if component.max_bits else 1
-        return sorted(set(range(built)) - modes)
-
-    def next_mode():
-        """A mode not yet in force first, then every mode code (0-7) once in each round, in a
-        random order: every mode is in force in a short run too (a mode is taken only at an
-        update start, and the next MODULATION write may come first)."""
-        if missing_modes():
-            return rng.choice(missing_modes())
-        if not mode_codes:
-            mode_codes.extend(rng.sample(range(8), 8))
-        return mode_codes.pop()
-
-    bits_codes = []
-
-    def next_bits():
-        """Mostly small b (short updates), else every b of the slot modes in turn (their
-        per-b tables: b = 5 and 6 alone set some bits) and now and then any code."""
-        if rng.random() < 0.6:
-            return rng.choice([1, 2, 3, 15, rng.randrange(16)])
-        if not bits_codes:
-            bits_codes.extend(rng.sample(range(1, max(component.max_bits, 1) + 1),
-                                         max(component.max_bits, 1)))
-        return bits_codes.pop()
-
-    ops = settings(0)
-    current, gap, angle, offered, lead = None, 0, rng.uniform(0, 2 * math.pi), None, 0
-    was_on = 0
-    burst_start = cycles * 7 // 10
-    burst_end = burst_start + max(4000, cycles // 8)
-    aw_done = w_done = ar_done = False
-    fault_until = -1
-    # resets: at the start, in the middle, and four more short trials of a tie
-    resets = {0, cycles // 2, *(cycles * k // 16 for k in (3, 5, 11, 13))}
-    # and eight trials on the b-bit grid, each reset before (not inside) the fault pulse, the
-    # limit writes, the stall and the burst
-    grid_resets = {cycles * k // 64 for k in (3, 7, 9, 15, 19, 22, 35, 37)} - resets
-    grid_bits = None       # b of a grid trial whose beat is not yet offered
-    # after the burst, in a long run: one update of more than 32768 clocks with the ADC trigger
-    # in its upper half (the trigger counter's bit 15); in a run with 8600 clocks or more left
-    # after the burst, one of 9000 with the trigger past 8192 (bit 13; the long settings'
-    # updates rarely run out between the resets of a short run); started by two sync pulses
-    # once the period is written, the firmware quiet meanwhile
-    adc_window = burst_end + 1 if cycles - burst_end >= 8600 else None
-    aimed_syncs = {burst_end + 200, burst_end + 260} if adc_window else set()
-    for cycle in range(cycles):
-        rst = int(cycle in resets or cycle in grid_resets)
-        if cycle in grid_resets and component.max_bits:
-            # a slot mode written first, no beat until every write is done: the updates run
-            # with R = 0, the integrators stay empty, and the beat on the half-slot grid goes
-            # into the first update of the slot mode (its instants on the quantiser's decision
-            # boundaries, as the generator's ``boundaries`` trials)
-            ops, current, offered = settings(cycle), None, None
-            grid_bits = rng.randint(1, component.max_bits)
-            ops.appendleft((regs.MODULATION, 1,
-                            rng.randint(1, len(MODES) - 1) << regs.MODULATION_MODE_SHIFT
-                            | grid_bits << regs.MODULATION_BITS_SHIFT))
-        elif rst:
-            ops, current = settings(cycle), None
-            # from reset the integrators are empty and MDFQM runs: the first update's
-            # largest candidates tie exactly (docs/robustness.md, "equal references")
-            offered = (tie_codes(rng, contract, phases) if component.rule == "largest_duty"
-                       else boundary_codes(rng, contract, phases, 1))
-        if grid_bits is not None and not ops and current is None:
-            offered, grid_bits = boundary_codes(rng, contract, phases, grid_bits), None
-        firmware_quiet = (adc_window is not None and cycle >= adc_window) or grid_bits is not None
-        stalled = cycles * 3 // 5 <= cycle < cycles * 3 // 5 + 3000   # the watchdog's turn
-        if stalled and not ops:
-            # the firmware polls WATCHDOG_TRIPS back to back while the stream stalls (a read in
-            # the tripping start's own clock sees the count before it), and clears the latch
-            # now and then once it has tripped (a clear restarts the quiet count), so that it
-            # trips again
-            ops.append((regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR)
-                       if model.wd_tripped and rng.random() < 0.2 else (regs.WATCHDOG_TRIPS, 0, 0))
-        if not ops and not firmware_quiet and rng.random() < 0.02:   # firmware: reads, settings
-            ops.extend(rng.choice([
-                [(rng.randrange(64), 0, 0)],
-                [(regs.REF_BASE + i, 1, pack([rng.randrange(-40000, 40000)], 32))
-                 for i in range(phases)] + [(regs.CMD, 1, regs.CMD_REF_COMMIT)],
-                [(regs.CMD, 1, regs.CMD_FAULT_CLEAR), (regs.STATUS, 0, 0)],
-                [(regs.CMD, 1, regs.CMD_COUNT_CLEAR), (regs.EVENTS_TOTAL, 0, 0)],
-                [(regs.IRQ_STATUS, 0, 0), (regs.IRQ_STATUS, 1, regs.IRQ_MASK)],
-                [random_write()],
-                [(regs.MODULATION, 1, next_mode() << regs.MODULATION_MODE_SHIFT
-                  | next_bits() << regs.MODULATION_BITS_SHIFT),
-                 (regs.MODULATION, 0, 0)],
-                [(regs.CMD, 1, regs.CMD_WATCHDOG_CLEAR), (regs.WATCHDOG_TRIPS, 0, 0)],
-                # the firmware's step from an active short circuit to all off
-                [(regs.CMD, 1, regs.CMD_ALL_OFF), (regs.STATUS, 0, 0)],
-                # every switching counter read (not only right after a clear)
-                [(regs.EVENTS_BASE + i, 0, 0) for i in range(phases)]
-                + [(regs.EVENTS_TOTAL, 0, 0)],
-            ]))
-        burst = burst_start <= cycle < burst_end
-        # firmware restoring its settings now and then (random writes may leave a dead time
-        # of 65535 clocks or the enable off: the gates would stop switching for good)
-        if cycle == burst_end or (not ops and cycle >= hold and rng.random() < 0.0005):
-            ops.extend(settings(cycle))
-            ops.append((regs.CMD, 1, regs.CMD_FAULT_CLEAR | regs.CMD_WATCHDOG_CLEAR))
-        if burst and not ops:
-            ops.append(rng.choice([
-                (regs.CMD, 1, rng.randrange(32)),
-                (regs.CMD, 1, rng.randrange(32) & ~regs.CMD_REF_COMMIT),  # the port served
-                (regs.IRQ_STATUS, 1, rng.getrandbits(32)), (regs.IRQ_STATUS, 0, 0),
-                random_write(), random_write(),
-            ]))
-            gap = 0
-        if cycle == adc_window:
-            period, offset = ((rng.randint(33_500, 34_500), rng.randint(32_768, 33_300))
-                              if cycles >= 200_000
-                              else (9000, rng.randint(8192, cycles - burst_end - 300)))
-            ops.extend([(regs.PERIOD, 1, period), (regs.ADC_OFFSET, 1, offset)])
-            hold = cycle + 2 * period
-        if cycle == cycles * 2 // 5:           # every register at its clamps
-            ops.extend(limit_writes(cycle))
-        if cycle == cycles * 3 // 5:           # the stall starts: a short timeout first
-            ops.appendleft((regs.WATCHDOG, 1, rng.choice([1, 2, 8])))
-            if rng.random() < 0.75:            # and mostly short updates: many trips
-                ops.appendleft((regs.PERIOD, 1, rng.choice([90, rng.randint(20, 27)])))
-                aimed_syncs.add(cycle + 40)      # in force at once (a sync once it is written)
-        if current is None and ops and gap == 0:
-            current, aw_done, w_done, ar_done = ops.popleft(), False, False, False
-            lead = rng.choice([0, 0, 0, 1, 2])     # Wishbone: cyc raised before stb
-        gap = max(0, gap - 1)
-        adr, we, data = current or (rng.randrange(64), rng.randint(0, 1), rng.getrandbits(32))
-        busy = current is not None
-        if axi:
-            byte = adr << 2 | rng.randrange(4)
-            bus = {"s_axi_awaddr": byte, "s_axi_awprot": rng.randrange(8),
-                   "s_axi_awvalid": int(busy and we and not aw_done), "s_axi_wdata": data,
-                   "s_axi_wstrb": rng.randrange(16),
-                   "s_axi_wvalid": int(busy and we and not w_done),
-                   "s_axi_bready": int(rng.random() < 0.6), "s_axi_araddr": byte,
-                   "s_axi_arprot": rng.randrange(8),
-                   "s_axi_arvalid": int(busy and not we and not ar_done),
-                   "s_axi_rready": int(rng.random() < 0.6)}
+    def first_after_reset(self, bits: int) -> None:
+        """The first beat after a reset, into empty integrators: on the half-slot grid of b
+        (a slot mode), or one whose largest candidates tie (MDFQM, largest_duty)."""
+        c, n = self.contract, self.phases
+        if bits or self.run.model.rule != "largest_duty":
+            self.offered, self.label = boundary_codes(self.rng, c, n, max(bits, 1)), "grid"
         else:
-            # idle: cyc or stb alone (a master holding the bus, a shared strobe), never both;
-            # an access: cyc, then stb after ``lead`` clocks, both held until ack
-            cyc, stb = (1, int(lead == 0)) if busy else rng.choice(IDLE_WISHBONE)
-            lead = max(0, lead - 1)
-            bus = {"wb_cyc": cyc, "wb_stb": stb, "wb_we": we, "wb_adr": adr,
-                   "wb_dat_w": data, "wb_sel": rng.choice([0xF, 0xF, 0x1, 0x0])}
-        if offered is None and not stalled and grid_bits is None and rng.random() < 0.3:
-            angle += 0.05
+            self.offered, self.label = tie_codes(self.rng, c, n), "tie"
+
+    def _beat(self):
+        rng, c, n = self.rng, self.contract, self.phases
+        lin = linear_amplitude(n)
+        kind = self.kind
+        if kind == "sine":
             pick = rng.random()
-            if pick < 0.1:                      # the ends and the middle of the code range
-                offered = extreme_codes(rng, contract, phases)
-            elif pick < 0.2:                    # ties
-                level = rng.randint(contract.code_min, contract.code_max)
-                offered = [rng.choice([level, -level // 2, 0]) for _ in range(phases)]
+            kind = "extreme" if pick < 0.1 else "ties" if pick < 0.2 else "sine"
+        if kind == "overmodulation":
+            return self.sine_codes(rng.uniform(1.0, 2.0) * lin, rng.uniform(-0.5, 0.5))
+        if kind == "common mode":
+            return self.sine_codes(rng.uniform(0.05, 0.6),
+                                   rng.choice([-1, 1]) * rng.uniform(0.25, 0.5))
+        if kind == "extreme":
+            return extreme_codes(rng, c, n)
+        if kind == "ties":
+            level = rng.randint(c.code_min, c.code_max)
+            codes = [rng.choice([level, -level // 2, 0]) for _ in range(n)]
+            codes[rng.randrange(n)] = codes[rng.randrange(n)]
+            return codes
+        return self.sine_codes()
+
+    def decide(self) -> None:
+        if self.run.cycle % 5000 == 0:       # from near zero into overmodulation
+            self.amplitude = self.rng.uniform(0.05, 1.0)
+        if self.offered is None and not self.stalled and (self.eager or self.rng.random() < 0.3):
+            self.offered, self.label = self._beat(), self.kind
+
+    def offering(self) -> bool:
+        return self.offered is not None or (self.eager and not self.stalled)
+
+
+class TopRun:
+    """One run of the drop-in top: the model, the bus master of its front, the stream, the
+    fault and sync pins, the sequences running and the coverage (see the module docstring)."""
+
+    def __init__(self, rng, component, phases: int, width: int, cycles: int,
+                 coverage: Coverage | None = None):
+        self.rng, self.cycles = rng, cycles
+        self.model = TopModel(phases, width, component.rule, component.dead_min,
+                              component.upper_active_low, component.lower_active_low,
+                              bus=component.bus, counter_width=component.counter_width,
+                              max_bits=component.max_bits, asc=component.asc)
+        self.axi = component.bus == "axi4lite"
+        self.inputs, self.outputs = ports_of(component)
+        self.stim = {port: [] for port, _ in self.inputs}
+        self.expected = {port: [] for port, _ in self.outputs}
+        self.master = MASTERS[component.bus](rng)
+        self.queue: deque = deque()
+        self.stream = StreamSource(self)
+        self.coverage = Coverage() if coverage is None else coverage
+        self.cycle = self.starts = 0
+        self.active: list = []            # (sequence, its body)
+        self.pending = None               # a sequence waiting for its claims to be free
+        self.nominal: dict[int, int] = {}
+        self.fault_in = self.sync_in = self.rst = 0
+        self.results: dict[int, int | None] = {}
+        self.tags = count(1)
+        self.modes_in_force: set[int] = set()
+        #: two legs turned on in one clock since EVENTS_TOTAL was last read
+        self.two_on_since_read = False
+        #: ADC trigger pulses so far (each counted in the clock that decides it)
+        self.triggers = 0
+        self._ahead: list = []
+        self._monitor = Monitor(self)
+        mapped = mapped_words(phases)
+        rw = {r.offset + i for r in regs.REGISTERS if r.access == "RW"
+              for i in range(phases if r.count > 1 else 1)}
+        self.mapped_writable = rw | {regs.CMD}
+        self.read_only = {a for a in mapped if a not in self.mapped_writable}
+        self.sequences = [s for s in seq.TopSequence.registry if s.applies(self)]
+        #: each sequence's coverpoints in this run
+        self.points = {s: s.coverpoints(self) for s in self.sequences}
+        for sequence, points in self.points.items():
+            for point, bins in points.items():
+                self.coverage.want(point, bins, sequence.key())
+        self._ports = ([(port, port.replace("__", "_")) for port, _ in self.inputs],
+                       [(port, port.replace("__", "_")) for port, _ in self.outputs])
+
+    # --------------------------------------------------------------- what sequences use
+    def write(self, address: int, value: int, aim: Aim | None = None,
+              with_pin: str | None = None) -> Access:
+        """Queue a write; ``with_pin`` ("sync_in", "fault_in") raises that pin in the clock
+        the write is issued."""
+        access = Access(address, 1, value & 0xFFFF_FFFF, aim, (next(self.tags), with_pin))
+        self.queue.append(access)
+        return access
+
+    def read(self, address: int) -> Access:
+        access = Access(address, 0, self.rng.getrandbits(32), None, (next(self.tags), None))
+        self.queue.append(access)
+        return access
+
+    def command(self, bits: int, aim: Aim | None = None) -> Access:
+        return self.write(regs.CMD, bits, aim)
+
+    def restore(self, *addresses, aim: Aim | None = None) -> list[Access]:
+        """The firmware's settings written again."""
+        return [self.write(a, self.nominal[a], aim) for a in addresses if a in self.nominal]
+
+    def done(self, access: Access) -> bool:
+        return access.tag[0] in self.results
+
+    def value(self, access: Access):
+        return self.results.get(access.tag[0])
+
+    def aim(self, moment, lead: int = 0, patience: int | None = None, unless=None) -> Aim:
+        """An aim at ``moment`` (one of the ``moment_*`` methods), given up after ``patience``
+        clocks (by default four updates of the length in force: every moment aimed at recurs
+        within an update or two while the gates switch), or once ``unless()`` holds (the
+        moment cannot come any more)."""
+        if patience is None:
+            patience = 4 * self.model.core.p_lat + 50
+        return Aim(self, moment, lead, patience, unless)
+
+    def settle(self, *accesses):
+        """Wait until every access (lists of them too) has completed."""
+        flat = [a for item in accesses for a in (item if isinstance(item, list) else [item])]
+        while not all(self.done(a) for a in flat):
+            yield
+
+    def wait(self, clocks: int):
+        for _ in range(clocks):
+            yield
+
+    def until(self, predicate, limit: int):
+        """Wait until ``predicate()`` holds (True) or ``limit`` clocks have passed (False)."""
+        for _ in range(limit):
+            if predicate():
+                return True
+            yield
+        return False
+
+    def updates(self, n: int, limit: int = 70_000):
+        """Wait until ``n`` more update starts have passed."""
+        target = self.starts + n
+        yield from self.until(lambda: self.starts >= target, limit)
+
+    def modulation_word(self, legal: bool = True, mode: int | None = None,
+                        bits: int | None = None) -> int:
+        rng, top = self.rng, self.model.max_bits
+        if mode is None:
+            mode = rng.randrange(len(MODES) if top else 1)
+        if bits is None:
+            bits = rng.choice([1, 1, 2, 2, 3, 4, rng.randint(1, max(top, 1))])
+        if legal:
+            bits = min(max(bits, 1), max(top, 1))
+        return mode << regs.MODULATION_MODE_SHIFT | bits << regs.MODULATION_BITS_SHIFT
+
+    def slot_length(self) -> int:
+        core = self.model.core
+        return max(1, core.slot_len if getattr(core, "mode_lat", 0) else core.p_lat)
+
+    def wrap_reachable(self) -> bool:
+        """Whether EVENTS_TOTAL can pass 2**counter_width in this run."""
+        return (1 << self.model.counter_width) * 40 <= self.cycles
+
+    def room_before_start(self) -> bool:
+        core = self.model.core
+        return core.phase != 0 and core.p_lat - core.phase > 48
+
+    # the moments an access can be aimed at: whether the event happens k clocks from now
+    def ahead(self, k: int) -> TopModel:
+        """The model k clocks from now (0: itself), stepped with this clock's pins and
+        stream, no bus access but the one the front issues by itself."""
+        if not self._ahead or self._ahead[0] is not self.model:
+            self._ahead = [self.model]
+        while len(self._ahead) <= k:
+            future = copy.deepcopy(self._ahead[-1])
+            offered = self.stream.offered
+            bus = {"s_axi_bready": 1, "s_axi_rready": 1} if self.axi else {}
+            future.step(rst=0, ref_valid=int(self.stream.offering()),
+                        ref=offered or [0] * future.phases, fault_in=self.fault_in,
+                        sync_in=self.sync_in if len(self._ahead) == 1 else 0, **bus)
+            self._ahead.append(future)
+        return self._ahead[k]
+
+    def moment_update_start(self, k: int) -> bool:
+        core = self.model.core
+        if k == 1:          # the sequencer's next phase (docs/contract.md), no copy stepped
+            threshold = (self.model.long_latency if getattr(core, "long_lat", 0)
+                         else self.model.latency)
+            return core.phase != 0 and (core.phase + 1 >= core.p_lat
+                                        or bool(self.sync_in and core.phase + 1 >= threshold))
+        return self.ahead(k).core.phase == 0
+
+    def moment_sample(self, k: int) -> bool:
+        if k == 1:
+            return self.moment_update_start(1) and self.model.core.sub == 0
+        core = self.ahead(k).core
+        return core.phase == 0 and core.sub == 0
+
+    def moment_beat(self, k: int) -> bool:
+        return self.stream.offering() and bool(self.ahead(k).ref_ready)
+
+    def moment_fault_latch(self, k: int) -> bool:
+        if k == 1:          # the synchroniser's second flop and the latch (docs/top.md, Fault)
+            driver = self.model.driver
+            return bool(driver.sync1 and not (driver.fault or driver.fault_input))
+        driver = self.ahead(k).driver
+        return bool(driver.fault_input and not driver.fault)
+
+    def _legs_next(self):
+        """Each leg's (up, lo) in the next clock, from the driver's own rules on this clock's
+        registers (docs/top.md, "Gate driver"); None while a fault, the watchdog or a fault
+        reaction is in play (then a copy of the model is stepped)."""
+        m = self.model
+        driver, core = m.driver, m.core
+        if driver.fault_input or driver.fault or m.wd_tripped or driver.reaction:
+            return None
+        enable = m.ctrl & regs.CTRL_ENABLE if core.update else driver.active
+        drive = int(bool(enable))
+        return drive, [leg.next_state((core.h >> i) & 1, drive, driver.dead_seen,
+                                      driver.min_pulse_seen)
+                       for i, leg in enumerate(driver.legs)]
+
+    def moment_turn_on(self, k: int) -> bool:
+        if k == 1 and (legs := self._legs_next()) is not None:
+            return any(not (leg.up or leg.lo) and (up or lo)
+                       for leg, (up, lo) in zip(self.model.driver.legs, legs[1], strict=True))
+        return any(leg.event for leg in self.ahead(k).driver.legs)
+
+    def moment_short_edge(self, k: int) -> bool:
+        if k == 0:          # the driver's own test on this clock's command (docs/top.md)
+            m = self.model
+            driver, core = m.driver, m.core
+            enable = m.ctrl & regs.CTRL_ENABLE if core.update else driver.active
+            drive = int(bool(enable) and not (driver.fault_input or driver.fault
+                                              or m.wd_tripped))
+            return bool(driver.short_edges(core.h, drive))
+        return bool(self.ahead(k + 1).driver.short_edge)
+
+    def moment_in_dead_time(self, k: int) -> bool:
+        if k == 1 and (legs := self._legs_next()) is not None:
+            return bool(legs[0]) and any(not (up or lo) for up, lo in legs[1])
+        driver = self.ahead(k).driver
+        return bool(driver.active) and any(not (leg.up or leg.lo) for leg in driver.legs)
+
+    def moment_mid_update(self, k: int) -> bool:
+        if k == 1:
+            core = self.model.core
+            return core.phase != 0 and 0 < core.phase + 1 < core.p_lat - 1
+        core = self.ahead(k).core
+        return 0 < core.phase < core.p_lat - 1 and not core.update
+
+    def moment_in_layout(self, k: int) -> bool:
+        core = self.ahead(k).core
+        return (bool(getattr(core, "mode_lat", 0)) and core.phase != 0
+                and core.slot_idx < len(core.slots) - 1)
+
+    def moment_watchdog_trip(self, k: int) -> bool:
+        if k == 1:          # the next start finds the quiet count as it is now (docs/top.md)
+            m = self.model
+            arrival = m.ref_ready and self.stream.offered is not None
+            return bool(m.wd_timeout and not m.wd_tripped and not arrival
+                        and self.moment_update_start(1) and m.wd_quiet >= m.wd_timeout)
+        m = self.ahead(k)
+        return bool(m.wd_timeout and not m.wd_tripped and m.core.phase == 0
+                    and not m.wd_arrival and m.wd_quiet >= m.wd_timeout)
+
+    def source_moment(self, source: str):
+        """The moment of an interrupt source's event (None: none to aim at)."""
+        return {"FAULT": self.moment_fault_latch, "SAMPLE": self.moment_sample,
+                "SHORT_EDGE": self.moment_short_edge,
+                "WATCHDOG": self.moment_watchdog_trip}.get(source)
+
+    # --------------------------------------------------------------------- the scheduler
+    def _start(self, sequence) -> None:
+        self.active.append((sequence, sequence.body()))
+
+    def _held(self) -> set:
+        return set().union(*(s.claims for s, _ in self.active)) if self.active else set()
+
+    def _schedule(self) -> None:
+        """Start the sequence that waits for its claims once they are free; else, now and
+        then, draw one (those with open coverpoints first): started if its claims are free,
+        else it waits, and nothing that needs its claims starts meanwhile. One that resets
+        the top (claims ALL) waits until no other one runs."""
+        waiting = self.pending
+        if waiting is not None:
+            free = not self.active if waiting.claims == seq.ALL else not (
+                waiting.claims & self._held())
+            if free:
+                self._start(waiting)
+                self.pending = waiting = None
+            elif waiting.claims == seq.ALL:
+                return
+        if (len(self.active) >= CONCURRENT or self.rng.random() >= START_RATE
+                or any(s.claims == seq.ALL for s, _ in self.active)):
+            return
+        weights = []
+        for sequence in self.sequences:
+            open_ = any(self.coverage.is_open(p) for p in self.points[sequence])
+            weights.append(sequence.weight * (OPEN_BOOST if open_ else 1.0))
+        if not any(weights):
+            return
+        chosen = self.rng.choices(self.sequences, weights)[0](self)
+        if waiting is not None and chosen.claims & waiting.claims:
+            return
+        if chosen.claims == seq.ALL or chosen.claims & self._held():
+            if waiting is None:
+                self.pending = chosen
+            return
+        self._start(chosen)
+
+    def _resume(self) -> None:
+        for entry in list(self.active):
+            try:
+                next(entry[1])
+            except StopIteration:
+                self.active.remove(entry)
+
+    def _background(self) -> None:
+        """Firmware's idle traffic: a read of any word, or a write to a word that holds no
+        writable register (ignored)."""
+        if self.queue or self.master.busy() or self.rng.random() >= BACKGROUND_RATE:
+            return
+        if self.rng.random() < 0.8:
+            self.read(self.rng.randrange(64))
+        else:
+            words = sorted(set(range(64)) - self.mapped_writable)
+            self.write(self.rng.choice(words), self.rng.getrandbits(32))
+
+    # --------------------------------------------------------------------- one clock
+    def clock(self) -> None:
+        self.sync_in = self.rst = 0
+        self._ahead = []
+        if self.cycle == 0:
+            self._start(seq.Operate(self))
+        self._schedule()
+        self._resume()
+        if self.rst:
+            self._reset()
+        self._background()
+        self.stream.decide()
+        self._ahead = []
+        bus = self.master.inputs(self.queue)
+        write, read = self.model.front.access(bus)
+        issued_write = self.master.issued_write() if write is not None else None
+        pin = issued_write.tag[1] if issued_write is not None else None
+        if pin == "sync_in":
+            self.sync_in = 1
+        elif pin == "fault_in":
+            self.fault_in = 1
+        payload = self.stream.offered or [0] * self.model.phases
+        valid = int(self.stream.offered is not None)
+        self.modes_in_force.add(getattr(self.model.core, "mode_lat", 0))
+        before = self._monitor.before(bus, write, read, valid, payload)
+        out = self.model.step(rst=self.rst, ref_valid=valid, ref=payload, fault_in=self.fault_in,
+                              sync_in=self.sync_in, **bus)
+        if valid and out["ref_ready"] and not self.rst:
+            self.stream.offered = None
+        if not self.rst:
+            self.master.observe(bus, out)
+            for done in self.master.completed:
+                self.results[done.access.tag[0]] = done.value
+                self._monitor.completed(done.access, done.value)
+        self._monitor.after(before, out)
+        if before["start"] and not self.rst:
+            self.starts += 1
+        values = {"rst": self.rst, "ref_valid": valid,
+                  "ref_payload": pack(payload, self.model.width),
+                  "fault_in": self.fault_in, "sync_in": self.sync_in, **bus}
+        inputs, outputs = self._ports             # port -> model name: wb__ack -> wb_ack
+        for port, name in inputs:
+            self.stim[port].append(values[name])
+        for port, name in outputs:
+            self.expected[port].append(out[name])
+        self.cycle += 1
+
+    def _reset(self) -> None:
+        """A reset drops every access in flight and the beat offered (a producer's valid is
+        low in a reset)."""
+        self.master.abort()
+        self.queue.clear()
+        self.stream.offered = None
+
+    def generate(self):
+        for _ in range(self.cycles):
+            self.clock()
+        return self.stim, self.expected, self.modes_in_force
+
+
+class Monitor:
+    """The coverpoints of the top's sequences, hit from what the model shows in each clock:
+    ``before`` reads the registers of the clock and its inputs, ``after`` what the clock
+    changed, ``completed`` a read's returned word."""
+
+    def __init__(self, run: TopRun):
+        self.run = run
+        m = run.model
+        self.clamp_bins: dict[int, dict[int, list[str]]] = {}
+        for sequence in seq.TopSequence.registry:
+            if issubclass(sequence, seq.ClampWalk) and sequence.POINT:
+                addresses = ([regs.REF_BASE + i for i in range(m.phases)]
+                             if sequence is seq.RefClamp else [sequence.REGISTER])
+                by_word: dict[int, list[str]] = {}
+                for name, word in sequence.values(run).items():
+                    by_word.setdefault(word & 0xFFFF_FFFF, []).append(name)
+                for address in addresses:
+                    self.clamp_bins[address] = (sequence.POINT, by_word)
+        self.adc_edges = seq.adc_edges(run)
+        self.period_edges = seq.period_edges(run)
+        self.fault_edges: deque = deque(maxlen=4)
+        self.last_fault_in = 0
+        self.last_bus: dict = {}
+        self.triggered = False
+        self.update_offset = None       # (P, ADC_OFFSET) at the last update start
+        self.after_reset = False
+        self.pins_point = seq.PinPolarity.point(run)
+        self.setting_written = None
+        self.dead_written = False
+
+    def hit(self, point, bin_):
+        self.run.coverage.hit(point, bin_)
+
+    # --------------------------------------------------------------------- before the step
+    def before(self, bus, write, read, valid, payload) -> dict:
+        run, m = self.run, self.run.model
+        core, driver = m.core, m.driver
+        rst = run.rst
+        start = core.phase == 0
+        beat = bool(valid and m.ref_ready)
+        turn_on = sum(leg.event << i for i, leg in enumerate(driver.legs))
+        fault_pin_edge = run.fault_in and not self.last_fault_in
+        latch_set = bool(driver.fault_input and not driver.fault)
+        facts = {"start": start, "turn_on": turn_on, "irq_status": m.irq_status,
+                 "irq": m.irq, "reaction": driver.reaction, "write": write,
+                 "period": m.period, "mode_request": m.mode_request,
+                 "bits_request": m.bits_request, "rst": rst,
+                 "named_on": [leg.up if (driver.cmd_lat >> i) & 1 else leg.lo
+                              for i, leg in enumerate(driver.legs)] if driver.active else (),
+                 "fault_rise": bool((driver.fault_input or driver.fault)
+                                    and not driver.fault_prev),
+                 "stop_rise": bool(m.wd_tripped and not driver.stop_prev),
+                 "left_normal": not (driver.fault_prev or driver.stop_prev)}
+        if run.fault_in != self.last_fault_in:
+            self.fault_edges.append(run.cycle)
+            if len(self.fault_edges) >= 3 and self.fault_edges[-1] - self.fault_edges[-3] <= 8:
+                self.hit(seq.FaultLatch.POINT, "chatter")
+        if fault_pin_edge and run.moment_in_dead_time(0):
+            self.hit(seq.FaultLatch.POINT, "raised in a dead time")
+        self.last_fault_in = run.fault_in
+        if rst:
+            self._reset(start)
+            return facts
+        self._bus(bus, write, read)
+        if write is not None:
+            self._write(write, start, beat, turn_on, latch_set, fault_pin_edge)
+        if read == regs.EVENTS_TOTAL and run.two_on_since_read:
+            self.hit(seq.Counters.POINT, "EVENTS_TOTAL read after two legs turned on in one "
+                     "clock")
+            run.two_on_since_read = False
+        if beat:
+            self._beat(payload)
+        elif valid and m.ref_pending:
+            self.hit(seq.RefArbitration.POINT, "port beat held while one is pending")
+        if run.sync_in:
+            threshold = m.long_latency if getattr(core, "long_lat", 0) else m.latency
+            if not start and core.phase + 1 >= threshold:
+                self.hit(seq.SyncPulses.POINT, "starts the next update")
+                if getattr(core, "mode_lat", 0):
+                    self.hit(seq.SyncPulses.POINT, "starts the next update in a slot mode")
             else:
-                offered = sine_codes(contract, amplitude, angle)
-        if cycle % 5000 == 0:                   # from near zero into overmodulation
-            amplitude = rng.uniform(0.05, 1.0)
-        if cycle == cycles // 4:
-            fault_until = cycle + rng.randrange(3, 20)
-        if burst and rng.random() < 0.01:
-            fault_until = cycle + rng.randrange(3)
-        fault_in = int(cycle <= fault_until)
-        sync_in = int(cycle in aimed_syncs
-                      or (cycle >= hold and rng.random() < (0.05 if burst else 0.003)))
-        payload, valid = offered or [0] * phases, int(offered is not None)
-        modes.add(getattr(model.core, "mode_lat", 0))
-        if census is not None and not rst:
-            write, _ = model.front.access({name: bus.get(name, 0) for name in model.front.INPUTS})
-            on = model.driver.up | model.driver.lo
-            happening = {"beat": valid and model.ref_ready, "fault": fault_in, "sync": sync_in,
-                         "turn_on": on & ~was_on}
-            for kind in ("write", "command"):
-                if write is not None and (kind == "write" or write[0] == regs.CMD):
-                    for event in COINCIDENT:
-                        if happening[event]:
-                            census[kind, event] = census.get((kind, event), 0) + 1
-            was_on = on
-        out = model.step(rst=rst, ref_valid=valid, ref=payload,
-                         fault_in=fault_in, sync_in=sync_in, **bus)
-        if offered is not None and out["ref_ready"] and not rst:
-            offered = None
-        if busy and not rst:                      # the master sees this cycle's outputs
-            if axi:
-                aw_done |= bool(bus["s_axi_awvalid"] and out["s_axi_awready"])
-                w_done |= bool(bus["s_axi_wvalid"] and out["s_axi_wready"])
-                ar_done |= bool(bus["s_axi_arvalid"] and out["s_axi_arready"])
-                done = ((out["s_axi_bvalid"] and bus["s_axi_bready"]) if we
-                        else (out["s_axi_rvalid"] and bus["s_axi_rready"]))
+                self.hit(seq.SyncPulses.POINT, "ignored: update in flight")
+        if bin(turn_on).count("1") >= 2:
+            run.two_on_since_read = True
+        for leg in driver.legs:
+            if leg.event:
+                self.hit(self.pins_point, "upper" if leg.up else "lower")
+        if start:
+            self._start(write)
+        elapsed = 0 if start else m.adc_cnt
+        if elapsed == m.adc_offset:
+            self.triggered = True
+            run.triggers += 1
+            self.hit(seq.AdcOffsetBands.POINT, band(m.adc_offset, self.adc_edges))
+        trip = run.moment_watchdog_trip(0)
+        if trip:
+            timeout = m.wd_timeout
+            self.hit(seq.Watchdog.POINT, "tripped at TIMEOUT 1" if timeout == 1 else
+                     "tripped at TIMEOUT 2..7" if timeout < 8 else "tripped at TIMEOUT 8..")
+            arrival = beat or (write is not None and write[0] == regs.CMD
+                               and write[1] & regs.CMD_REF_COMMIT)
+            if arrival:
+                self.hit(seq.Watchdog.POINT, "a reference in the tripping start's clock")
+        total = m.total + bin(turn_on).count("1")
+        clearing = write is not None and write[0] == regs.CMD and write[1] & regs.CMD_COUNT_CLEAR
+        if total >> m.counter_width and not clearing:
+            self.hit(seq.Counters.POINT, "EVENTS_TOTAL wrapped")
+        return facts
+
+    def _reset(self, start) -> None:
+        run = self.run
+        if start:
+            where = "in an update start's clock"
+        elif run.moment_in_layout(0):
+            where = "inside a slot layout"
+        else:
+            where = "in the middle of an update"
+        self.hit(seq.ResetMidUpdate.POINT, where)
+        self.after_reset = True
+
+    def _bus(self, bus, write, read) -> None:
+        run, front = self.run, self.run.model.front
+        point = seq.BusHandshakes.POINT
+        if not run.axi:
+            cyc, stb = bus["wb_cyc"], bus["wb_stb"]
+            if run.master.busy():
+                if cyc and not stb:
+                    self.hit(point, "cyc raised before stb")
+                if cyc and stb and front.ack:
+                    self.hit(point, "stb held in the ack clock")
+            elif cyc != stb:
+                self.hit(point, "cyc alone while idle" if cyc else "stb alone while idle")
+            return
+        aw = bus["s_axi_awvalid"] and not front.aw_full
+        w = bus["s_axi_wvalid"] and not front.w_full
+        if front.aw_full and not front.w_full:
+            self.hit(point, "AW before W")
+        if front.w_full and not front.aw_full:
+            self.hit(point, "W before AW")
+        if aw and w:
+            self.hit(point, "AW and W together")
+        if front.bvalid and not bus["s_axi_bready"]:
+            self.hit(point, "B held by bready low")
+        if front.rvalid and not bus["s_axi_rready"]:
+            self.hit(point, "R held by rready low")
+        if aw and front.bvalid:
+            self.hit(point, "next AW while B waits")
+        if front.bvalid and bus["s_axi_bready"] and front.bresp:
+            self.hit(point, "SLVERR write")
+        if front.rvalid and bus["s_axi_rready"] and front.rresp:
+            self.hit(point, "SLVERR read")
+        if bus["s_axi_wvalid"] and bus["s_axi_wstrb"] != 0xF:
+            self.hit(point, "wstrb other than 0xF")
+
+    def _write(self, write, start, beat, turn_on, latch_set, fault_pin_edge) -> None:
+        run, m = self.run, self.run.model
+        driver = m.driver
+        address, value = write
+        kind = ("CMD write" if address == regs.CMD else
+                "IRQ_STATUS write-1-to-clear" if address == regs.IRQ_STATUS else
+                "register write")
+        events = {"update start": start, "beat accepted": beat,
+                  "fault pin edge": fault_pin_edge, "fault latch set": latch_set,
+                  "sync pulse": bool(run.sync_in), "gate turn-on": bool(turn_on)}
+        point = f"{seq.TwoEventsInOneClock.POINT} an event"
+        for event, happening in events.items():
+            if happening:
+                self.hit(point, f"{kind} / {event}")
+        names = {v: k for k, v in seq.RuntimeChanges.SETTINGS.items()}
+        if address in names and start:
+            self.hit(seq.RuntimeChanges.POINT, names[address])
+        self.setting_written = names.get(address)
+        if address in self.clamp_bins:
+            clamp_point, by_word = self.clamp_bins[address]
+            for name in by_word.get(value, ()):
+                self.hit(clamp_point, name)
+        random_point = seq.RandomWrites.POINT
+        if address == regs.CMD:
+            self.hit(random_point, "CMD")
+            self._command(value, beat, turn_on)
+        elif address in run.mapped_writable:
+            self.hit(random_point, "a read-write register")
+        elif address in run.read_only:
+            self.hit(random_point, "a read-only register")
+        else:
+            self.hit(random_point, "an unmapped word")
+        if address in (regs.ID, regs.INFO, regs.DEAD_MIN):
+            self.hit(seq.Identification.POINT, "written, ignored")
+        if address in (regs.IRQ_ENABLE, regs.IRQ_STATUS) and value & ~regs.IRQ_MASK:
+            self.hit(seq.IrqService.UNDEFINED,
+                     "IRQ_ENABLE" if address == regs.IRQ_ENABLE else "IRQ_STATUS")
+        if address == regs.DEAD:
+            point = seq.DeadTime.POINT
+            if value < m.dead_min:
+                self.hit(point, "below the floor")
+            if run.moment_in_dead_time(0):
+                now = max(m.dead, m.dead_min)
+                new = min(max(value, m.dead_min), 0xFFFF)
+                if new > now:
+                    self.hit(point, "raised while a dead time runs")
+                elif new < now:
+                    self.hit(point, "lowered while a dead time runs")
+            self.dead_written = True
+        if address == regs.CTRL and not m.core.update:
+            was, now = m.ctrl & regs.CTRL_ENABLE, value & regs.CTRL_ENABLE
+            if was and not now:
+                self.hit(seq.EnableMidUpdate.POINT, "cleared")
+            elif now and not was:
+                self.hit(seq.EnableMidUpdate.POINT, "set")
+        if address == regs.MODULATION and value & ~(regs.MODULATION_MODE
+                                                    | regs.MODULATION_BITS):
+            self.hit(seq.ModulationClamp.POINT, "bits outside MODE and BITS")
+        if address == regs.WATCHDOG:
+            stored = min(value, 0xFFFF)
+            if (stored and not m.wd_tripped and m.wd_timeout > m.wd_quiet
+                    and stored <= m.wd_quiet):
+                self.hit(seq.Watchdog.POINT, "TIMEOUT lowered below the quiet count")
+        if address == regs.FAULT_REACTION and driver.reaction:
+            self.hit(seq.FaultReaction.POINT, "rewritten while an ASC is in force")
+
+    def _command(self, value, beat, turn_on) -> None:
+        m = self.run.model
+        driver = m.driver
+        if value & regs.CMD_REF_COMMIT:
+            point = seq.RefArbitration.POINT
+            self.hit(point, "committed")
+            if m.ref_pending:
+                self.hit(point, "commit while one is pending")
+            if beat:
+                self.hit(point, "commit in the clock a port beat is accepted")
+        if value & regs.CMD_COUNT_CLEAR and turn_on:
+            self.hit(seq.Counters.POINT, "COUNT_CLEAR in the clock of a turn-on")
+        if value & regs.CMD_FAULT_CLEAR:
+            if driver.fault_input:
+                self.hit(seq.FaultLatch.POINT, "clear while the input is high")
+            elif driver.fault:
+                self.hit(seq.FaultLatch.POINT, "clear once the input is low")
+        if value & regs.CMD_WATCHDOG_CLEAR and m.wd_tripped:
+            self.hit(seq.Watchdog.POINT, "cleared")
+
+    def _beat(self, payload) -> None:
+        run, m = self.run, self.run.model
+        c, n = m.contract, m.phases
+        if abs(sum(payload)) >= n * c.full // 4:
+            self.hit(seq.CommonMode.POINT, "accepted")
+        if set(payload) <= {c.code_min, c.code_max, 0, -1, 1} and (
+                c.code_min in payload or c.code_max in payload):
+            self.hit(seq.ExtremeCodes.POINT, "accepted")
+        if len(set(payload)) < n:
+            self.hit(seq.Ties.POINT, "accepted")
+        if self.after_reset:
+            self.after_reset = False
+            empty = not any(m.core.x)
+            if empty and run.stream.label == "tie" and m.rule == "largest_duty":
+                rho, _ = sort1(remove_common_mode(payload, n))
+                values = candidates(rho, c, "largest_duty")
+                if values.count(max(values)) >= 2:
+                    self.hit(seq.ResetMidUpdate.FIRST, "largest candidates tie")
+            if (empty and run.stream.label == "grid"
+                    and latch_mode(m.mode_request, m.bits_request, m.max_bits)[0]):
+                self.hit(seq.ResetMidUpdate.FIRST, "on the half-slot grid into a slot mode")
+
+    def _start(self, write) -> None:
+        """The update start of this clock: the settings it takes."""
+        m = self.run.model
+        osr = m.osr
+        self.hit(seq.OsrSettings.POINT, "0 (acts as 1)" if osr == 0 else "1" if osr == 1
+                 else "255" if osr == 255 else "2..254")
+        self.hit(seq.ZeroPolicy.POINT, "fewest transitions" if m.ctrl & regs.CTRL_ZERO_POLICY
+                 else "all-off")
+        last = self.update_offset
+        if last is not None and not self.triggered and last[1] >= last[0]:
+            self.hit(seq.AdcOffsetBands.POINT, seq.AdcOffsetBands.NONE)
+        self.triggered = False
+
+    # ---------------------------------------------------------------------- after the step
+    def after(self, facts, out) -> None:
+        m = self.run.model
+        core, driver = m.core, m.driver
+        if facts["rst"]:
+            return
+        if facts["start"]:
+            self.update_offset = (core.p_lat, m.adc_offset)
+            if core.period_clamped:
+                self.hit(seq.PeriodBands.POINT, "below the minimum")
+                point = seq.PeriodBelowLatency.POINT
+                if facts["period"] == 0:
+                    self.hit(point, "0")
+                elif facts["period"] < m.latency:
+                    self.hit(point, "1..L-1")
+                if getattr(core, "mode_lat", 0):
+                    self.hit(point, "in a slot mode")
             else:
-                done = out["wb_ack"]
-            if done:
-                current, gap = None, rng.choice([0, 0, 1, 3])
-        values = {"rst": rst, "ref_valid": valid, "ref_payload": pack(payload, width),
-                  "fault_in": fault_in, "sync_in": sync_in, **bus}
-        for port, _ in inputs:                    # model names: wb__ack -> wb_ack
-            stim[port].append(values[port.replace("__", "_")])
-        for port, _ in outputs:
-            expected[port].append(out[port.replace("__", "_")])
-    return stim, expected, modes
+                self.hit(seq.PeriodBands.POINT, band(facts["period"], self.period_edges))
+            mode = getattr(core, "mode_lat", 0)
+            self.hit(seq.ModulationModes.MODES_POINT, MODES[mode])
+            if mode:
+                self.hit(seq.ModulationModes.BITS_POINT, core.bits_lat)
+            request = (facts["mode_request"], facts["bits_request"])
+            built = len(MODES) if m.max_bits else 1
+            point = seq.ModulationClamp.POINT
+            if request[0] >= built:
+                self.hit(point, "mode not built in")
+            elif request[0] and m.max_bits:
+                if request[1] == 0:
+                    self.hit(point, "b 0")
+                elif request[1] > m.max_bits:
+                    self.hit(point, "b above max_bits")
+        if core.update and core.saturated:
+            self.hit(seq.Overmodulation.POINT, "an update saturated")
+        if core.phase == 0 and getattr(self, "setting_written", None):
+            self.hit(seq.RuntimeChanges.BEFORE, self.setting_written)
+        self.setting_written = None
+        if getattr(self, "dead_written", False) and any(leg.event for leg in driver.legs):
+            self.hit(seq.DeadTime.POINT, "the clock before a turn-on")
+        self.dead_written = False
+        # short edges of this clock: swallowed (the switch named was not on) or stretched
+        for i in range(m.phases):
+            if (driver.short_edge >> i) & 1:
+                named_on = facts["named_on"][i]
+                self.hit(seq.ShortEdges.POINT, "stretched to MIN_PULSE" if named_on
+                         else "swallowed by the dead time")
+                if named_on:
+                    self.hit(seq.MinPulse.POINT, "stretched")
+        # interrupts
+        new = m.irq_status & ~facts["irq_status"]
+        for name, bit in seq.IRQ_SOURCES.items():
+            if new & bit:
+                self.hit(seq.IrqService.SET, name)
+        if m.irq and not facts["irq"]:
+            for name, bit in seq.IRQ_SOURCES.items():
+                if facts["irq_status"] & m.irq_enable & bit:
+                    self.hit(seq.IrqService.RAISED, name)
+        write = facts["write"]
+        if write is not None and write[0] == regs.IRQ_STATUS:
+            for name, bit in seq.IRQ_SOURCES.items():
+                if write[1] & bit and m.irq_status & bit:
+                    self.hit(seq.IrqService.SAME_CLOCK, name)
+        # the fault reaction: entered (from none), left (from an ASC)
+        before, now = facts["reaction"], driver.reaction
+        point = seq.FaultReaction.POINT
+        if facts["left_normal"] and (facts["fault_rise"] or facts["stop_rise"]):
+            source = "fault" if facts["fault_rise"] else "watchdog"
+            names = {1: "ASC low", 2: "ASC high"}
+            self.hit(point, f"{names.get(now, 'all off')} ({source})")
+        if before and not now:
+            left = seq.FaultReaction.LEFT
+            if write is not None and write[0] == regs.CMD and write[1] & regs.CMD_ALL_OFF:
+                self.hit(left, "by CMD.ALL_OFF")
+            elif not (driver.fault or driver.fault_input or m.wd_tripped):
+                self.hit(left, "by the clear")
+            else:
+                self.hit(left, "by a second source whose reaction is all off")
+
+    def completed(self, access, value) -> None:
+        """A read returned ``value``: what it shows."""
+        if value is None:
+            return
+        address = access.address
+        if address == regs.STATUS:
+            flags = {regs.STATUS_PERIOD_CLAMPED: (seq.PeriodBelowLatency.POINT,
+                                                  "STATUS.PERIOD_CLAMPED read 1"),
+                     regs.STATUS_MODE_CLAMPED: (seq.ModulationClamp.POINT,
+                                                "STATUS.MODE_CLAMPED read 1"),
+                     regs.STATUS_SATURATED: (seq.Overmodulation.POINT,
+                                             "STATUS.SATURATED read 1"),
+                     regs.STATUS_REF_PENDING: (seq.RefArbitration.POINT,
+                                               "STATUS.REF_PENDING read 1"),
+                     regs.STATUS_FAULT: (seq.FaultLatch.POINT, "STATUS.FAULT read 1"),
+                     regs.STATUS_FAULT_INPUT: (seq.FaultLatch.POINT,
+                                               "STATUS.FAULT_INPUT read 1"),
+                     regs.STATUS_WATCHDOG: (seq.Watchdog.POINT, "STATUS.WATCHDOG read 1")}
+            for mask, (point, name) in flags.items():
+                if value & mask:
+                    self.hit(point, name)
+            self.hit(seq.EnableMidUpdate.POINT, "STATUS.ACTIVE read 1"
+                     if value & regs.STATUS_ACTIVE else "STATUS.ACTIVE read 0")
+        elif address in (regs.ID, regs.INFO, regs.DEAD_MIN):
+            self.hit(seq.Identification.POINT, {regs.ID: "ID read", regs.INFO: "INFO read",
+                                                regs.DEAD_MIN: "DEAD_MIN read"}[address])
+        elif regs.EVENTS_BASE <= address < regs.EVENTS_BASE + self.run.model.phases:
+            self.hit(seq.Counters.POINT, f"EVENTS[{address - regs.EVENTS_BASE}] read")
+        elif address == regs.GATES:
+            if value & regs.GATES_UPPER:
+                self.hit(seq.Counters.POINT, "GATES read with an upper gate on")
+            if value & regs.GATES_LOWER:
+                self.hit(seq.Counters.POINT, "GATES read with a lower gate on")
+
+
+def top_stimulus(rng, component, phases, width, cycles, coverage=None):
+    """The drop-in top under the specification's sequences (see the module docstring):
+    ``cycles`` clocks of inputs and expected outputs by port, and the set of modes in force in
+    some clock. ``coverage``, a :class:`~mdfqm_testkit.coverage.Coverage` if given, receives
+    the run's goals and hits (the caller asserts what it needs)."""
+    run = TopRun(rng, component, phases, width, cycles, coverage)
+    return run.generate()
+
+
+__all__ = ["Aim", "StreamSource", "TopRun", "bands", "top_stimulus"]

@@ -183,7 +183,7 @@ def _blocks() -> dict[str, Block]:
               _driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
         Block("top_wb", "top, Wishbone (MdfqmTop, the drop-in mdfqm_top_n3_w16)", "mdfqm_top",
               lambda formal: MdfqmTop(3, 16, formal=formal),
-              _top_runs("wishbone", (225_000,) * 4), _top_tests("wishbone"), depth),
+              _top_runs("wishbone", (150_000, 60_000)), _top_tests("wishbone"), depth),
         # the AXI4-Lite top's own logic: its front, the register file, counters, watchdog; the
         # core and the driver inside are the Wishbone top's netlist, measured there
         Block("top_axi", "top, AXI4-Lite (MdfqmTop bus=axi4lite, mdfqm_top_axil_n3_w16; "
