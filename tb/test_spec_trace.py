@@ -10,7 +10,7 @@ import json
 import pytest
 
 from mdfqm_testkit import spec_trace
-from mdfqm_testkit.coverage import Coverage
+from mdfqm_testkit.coverage import Coverage, band, bands
 from mdfqm_testkit.sequences import anchor, rdl, robustness
 
 
@@ -84,3 +84,26 @@ def test_the_summary_names_each_rule_its_sequences_and_bins(tmp_path):
     assert "| 1 / 2 | sync pulse: ignored: update in flight |" in line
     assert "not run" in next(line for line in text.splitlines()
                              if "`generator: HeldMode`" in line)
+
+
+def test_coverage_counts_goals_hits_and_what_is_missing():
+    coverage = Coverage()
+    coverage.want("point", ("a", "b", 3), "top: Owner")
+    coverage.hit("point", "a")
+    coverage.hit("point", 3)
+    coverage.hit("elsewhere", "x")           # a hit beyond the goals is kept, not a goal
+    assert coverage.missing() == [("point", "b")]
+    assert coverage.is_open("point") and not coverage.is_open("elsewhere")
+    other = Coverage.from_json(json.loads(json.dumps(coverage.to_json())))
+    assert other.missing() == [("point", "b")] and other.owners == {"point": "top: Owner"}
+    other.hit("point", "b")
+    coverage.merge(other)
+    assert coverage.missing() == [] and coverage.count("point", "a") == 2
+
+
+def test_bands_name_the_ranges_between_edges():
+    assert bands((0, 1, 256, 4096)) == ["0", "1..255", "256..4095", "4096.."]
+    assert [band(v, (0, 1, 256, 4096)) for v in (0, 1, 255, 256, 65535)] == [
+        "0", "1..255", "1..255", "256..4095", "4096.."]
+    with pytest.raises(ValueError):
+        band(3, (8, 16))

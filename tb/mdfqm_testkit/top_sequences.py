@@ -65,11 +65,6 @@ class TopSequence(Sequence, family=True):
     family = "top"
 
 
-def slot_mode(run) -> bool:
-    """Whether the update in flight is a slot mode's (its layout plays slot edges)."""
-    return bool(getattr(run.model.core, "mode_lat", 0))
-
-
 def short_period(run) -> int:
     """A period of a few dozen to a few hundred clocks: the gates switch within a few
     thousand clocks in every mode (below the slot modes' minimum at large b it is clamped)."""
@@ -132,9 +127,9 @@ class PeriodBands(TopSequence):
             value = rng.randrange(run.model.latency)
         elif choice == "short":
             value = short_period(run)
-        else:
-            lo = int(choice.split("..")[0])
-            value = lo + rng.randrange(min(600, max(1, lo)))
+        else:                       # above the loop latency, so that it is not clamped
+            lo = max(int(choice.split("..")[0]), run.model.latency)
+            value = lo + rng.randrange(min(600, lo))
         yield from run.settle(run.write(regs.PERIOD, value), run.read(regs.PERIOD))
         yield from run.updates(1, limit=3 * 65536)          # taken at that start
         if value >= 4096:           # long updates cost clocks: back to a short operating point
@@ -867,12 +862,15 @@ class IrqService(TopSequence):
             run.stream.stalled = True
             yield from run.settle(run.write(regs.PERIOD, rng.randint(20, 90)),
                                   run.write(regs.WATCHDOG, rng.randint(1, 3)))
-        patience, unless = None, None
-        if self.source == "WATCHDOG":
-            patience, unless = 65_536 * 5, lambda: run.model.wd_tripped
-        elif self.source == "FAULT":
-            unless = lambda: run.model.driver.fault      # noqa: E731 -- the latch set already
-        moment = run.aim(run.source_moment(self.source), patience=patience, unless=unless)
+        model = run.model
+
+        def gone() -> bool:
+            """The event cannot come any more: the latch it sets is set already."""
+            return bool(model.wd_tripped if self.source == "WATCHDOG"
+                        else model.driver.fault if self.source == "FAULT" else False)
+
+        patience = 65_536 * 5 if self.source == "WATCHDOG" else None
+        moment = run.aim(run.source_moment(self.source), patience=patience, unless=gone)
         yield from run.settle(run.write(regs.IRQ_STATUS, bit | rng.getrandbits(32), aim=moment))
         if self.source == "FAULT":
             yield from run.wait(rng.randint(1, 8))

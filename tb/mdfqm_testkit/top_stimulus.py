@@ -31,7 +31,7 @@ from mdfqm_testkit import top_sequences as seq
 from mdfqm_testkit.bbit_stimulus import boundary_codes, tie_codes
 from mdfqm_testkit.bus_masters import MASTERS, Access
 from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes
-from mdfqm_testkit.coverage import Coverage, band, bands
+from mdfqm_testkit.coverage import Coverage, band
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.vectors import ports_of
 
@@ -73,8 +73,6 @@ class StreamSource:
     between; balanced sines whose amplitude drifts from near zero into overmodulation, with
     beats of extreme codes and ties mixed in, or the kind a sequence asks for (``kind``);
     ``eager`` offers a beat in every clock, ``stalled`` none (a controller that stopped)."""
-
-    KINDS = ("sine", "overmodulation", "common mode", "extreme", "ties")
 
     def __init__(self, run):
         self.run, self.rng = run, run.rng
@@ -880,4 +878,4 @@ def top_stimulus(rng, component, phases, width, cycles, coverage=None):
     return run.generate()
 
 
-__all__ = ["Aim", "StreamSource", "TopRun", "bands", "top_stimulus"]
+__all__ = ["Aim", "Monitor", "StreamSource", "TopRun", "top_stimulus"]
