@@ -52,7 +52,7 @@ def run_bbit_vectors(phases, width, rule, max_bits, cycles_per_scenario, seed):
 
 
 @pytest.mark.parametrize(("phases", "width", "rule", "max_bits", "cycles_per_scenario"), [
-    (3, 16, "largest_duty", 8, 30_000),
+    (3, 16, "largest_duty", 8, 20_000),
     (5, 14, "exact_nearest", 5, 8_000),
     (4, 10, "largest_duty", 8, 4_000),      # max_bits = width - 2: S up to FULL
 ])

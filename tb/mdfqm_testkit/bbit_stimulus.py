@@ -295,7 +295,7 @@ class RandomSwitches(GeneratorSequence):
             s["mode"] = rng.choice([0, 0, 1, 2, 3, 4, rng.randint(0, 7)])
             s["bits"] = rng.choice([*run.bits_choices, rng.randint(0, 15)])
             open_ = run.coverage.open_bins(self.POINT)
-            if open_ and rng.random() < 0.5:        # aim at a clamp not taken yet
+            if open_ and rng.random() < 0.8:        # aim at a setting not taken yet
                 pick = rng.choice(open_)
                 if pick == "mode code not built in":
                     s["mode"] = rng.randint(len(MODES), 7)
@@ -410,7 +410,8 @@ class BeyondLinearRange(GeneratorSequence):
             s["bits"] = rng.choice(run.bits_choices)
             s["period"] = _period_for(rng, run.model, s["mode"], s["bits"])
             s["policy"], s["osr"] = rng.randint(0, 1), rng.choice([1, 2, 4, 1])
-            run.stream.amplitude = rng.uniform(1.0, 2.0) * run.linear
+            deep = run.coverage.is_open(self.POINT)        # far out until both saturated
+            run.stream.amplitude = rng.uniform(1.5 if deep else 1.0, 2.0) * run.linear
             run.stream.offset = rng.uniform(-0.5, 0.5)
             yield from run.pace(self.POINT)
 
@@ -481,10 +482,14 @@ class SettingsAtTheirLimits(GeneratorSequence):
                         s["mode"] = rng.randint(1, len(MODES) - 1)
                     break
             run.stream.kind = "grid" if "a beat on the b-bit grid" in open_ else "limits"
+            # the long periods once the short settings are all taken (a long update would
+            # use up a short run)
+            short_first = any(b != "period 65535 in a slot mode" for b in open_)
             if not run.holding:      # the largest period is held until an update takes it
+                room = run.cycles - run.cycle - 2 * model.long_latency
                 s["period"] = limit_period(rng, model.long_latency,
-                                           run.cycles - run.cycle - 2 * model.long_latency,
-                                           longest)
+                                           min(room, 4 * model.long_latency) if short_first
+                                           else room, longest)
                 for value in (0, 1):
                     if f"period {value}" in open_ and s["period"] != PERIOD_MAX:
                         s["period"] = value
@@ -529,6 +534,8 @@ class SyncAtPowersOfTwo(GeneratorSequence):
             run.sync_in = int(run.cycle == due or (not quiet and rng.random() < 0.0005))
             if run.model.phase == 0 and not run.holding:
                 due = sync_delay(rng, run.cycle, run.model.p_lat)
+                if "ignored: update in flight" in run.coverage.open_bins(self.POINT):
+                    due = run.cycle + rng.randint(1, run.model.latency - 2)   # not committed
                 run.aimed_sync = due
             yield
 

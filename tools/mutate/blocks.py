@@ -65,13 +65,13 @@ def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
     return runs
 
 
-def _generator_runs(seed: int, cycles: int = 30_000) -> list[Run]:
+def _generator_runs(seed: int, cycles: int = 20_000) -> list[Run]:
     from mdfqm_spec.contract import Contract
     from mdfqm_testkit.bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
 
     contract = Contract(3, 16)
     runs = []
-    for scenario in SCENARIOS:       # tb/test_bbit_vectors.py: 30 000 clocks a scenario
+    for scenario in SCENARIOS:       # tb/test_bbit_vectors.py: 20 000 clocks a scenario
         stim, expected, _ = generate(random.Random(f"{seed}-{scenario}"), scenario, contract,
                                      "largest_duty", 8, cycles,
                                      bits_choices=tuple(range(1, 9)), segment=4000)
