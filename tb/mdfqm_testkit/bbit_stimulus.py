@@ -687,7 +687,7 @@ class GeneratorRun:
             valid = int(offered is not None)
             payload = offered or [0] * self.contract.phases
             start = model.phase == 0
-            self._before(valid, payload, start)
+            self._before(valid, start)
             trace["mode"].append(model.mode_lat)     # the registers visible in this clock
             trace["long"].append(model.long_lat)
             out = model.step(rst=self.rst, ref_valid=valid, ref=payload, period=s["period"],
@@ -701,7 +701,7 @@ class GeneratorRun:
             self.holding = self.holding and not out["start"]
             if out["start"] and not self.rst:
                 self.starts += 1
-            self._after(out, start)
+            self._after()
             for name, value in (("rst", self.rst), ("ref__valid", valid),
                                 ("ref__payload", pack(payload, self.contract.width)),
                                 ("period", s["period"]), ("osr", s["osr"]),
@@ -717,14 +717,14 @@ class GeneratorRun:
         return stim, expected, trace
 
     # ------------------------------------------------------------------------ coverage
-    def _before(self, valid, payload, start) -> None:
+    def _before(self, valid, start) -> None:
         """What the registers of this clock and its inputs show."""
         m = self.model
         if valid and not m.ref_ready:
             self.hit(StreamHonoursReady.POINT, "held while ready is low")
         elif valid and not self.rst:
             self.hit(StreamHonoursReady.POINT, "taken")
-            self._beat(payload)
+            self._beat()
         if self.rst:
             if not start:
                 self.hit(Resets.POINT, "in the middle of an update")
@@ -797,7 +797,7 @@ class GeneratorRun:
         if mode and not m.prev_bbit and m.mode_lat == 0:
             self.hit(handover, "a layout after MDFQM")
 
-    def _beat(self, payload) -> None:
+    def _beat(self) -> None:
         """What a beat taken in this clock is."""
         m = self.model
         if self.stream.label == "grid":
@@ -810,7 +810,7 @@ class GeneratorRun:
                      f"first beat into {MODES[which] if kind == 'mode' else 'dpwm0'}")
             self.first_layout = kind == "first slot"
 
-    def _after(self, out, start) -> None:
+    def _after(self) -> None:
         """What the clock presented: a saturated update, the first layout of a trial."""
         m = self.model
         if not m.update:

@@ -454,7 +454,7 @@ class TopRun:
             for done in self.master.completed:
                 self.results[done.access.tag[0]] = done.value
                 self._monitor.completed(done.access, done.value)
-        self._monitor.after(before, out)
+        self._monitor.after(before)
         if before["start"] and not self.rst:
             self.starts += 1
         values = {"rst": self.rst, "ref_valid": valid,
@@ -543,7 +543,7 @@ class Monitor:
         if rst:
             self._reset(start)
             return facts
-        self._bus(bus, write, read)
+        self._bus(bus)
         if write is not None:
             self._write(write, start, beat, turn_on, latch_set, fault_pin_edge)
         if read == regs.EVENTS_TOTAL and run.two_on_since_read:
@@ -568,7 +568,7 @@ class Monitor:
             if leg.event:
                 self.hit(self.pins_point, "upper" if leg.up else "lower")
         if start:
-            self._start(write)
+            self._start()
         elapsed = 0 if start else m.adc_cnt
         if elapsed == m.adc_offset:
             self.triggered = True
@@ -600,7 +600,7 @@ class Monitor:
         self.hit(seq.ResetMidUpdate.POINT, where)
         self.after_reset = True
 
-    def _bus(self, bus, write, read) -> None:
+    def _bus(self, bus) -> None:
         run, front = self.run, self.run.model.front
         point = seq.BusHandshakes.POINT
         if not run.axi:
@@ -742,7 +742,7 @@ class Monitor:
                     and latch_mode(m.mode_request, m.bits_request, m.max_bits)[0]):
                 self.hit(seq.ResetMidUpdate.FIRST, "on the half-slot grid into a slot mode")
 
-    def _start(self, write) -> None:
+    def _start(self) -> None:
         """The update start of this clock: the settings it takes."""
         m = self.run.model
         osr = m.osr
@@ -756,7 +756,7 @@ class Monitor:
         self.triggered = False
 
     # ---------------------------------------------------------------------- after the step
-    def after(self, facts, out) -> None:
+    def after(self, facts) -> None:
         m = self.run.model
         core, driver = m.core, m.driver
         if facts["rst"]:
