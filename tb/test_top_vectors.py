@@ -21,7 +21,7 @@ from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.top_stimulus import top_stimulus
 from mdfqm_testkit.vectors import VectorBench
 
-#: (name, top, runs x clocks): 150 000 + 60 000 + 50 000 + 40 000 + 2 x 25 000 = 350 000
+#: (name, top, runs x clocks): 150 000 + 60 000 + 50 000 + 40 000 + 2 x 30 000 = 360 000
 #: checked clocks; the first run long enough for an update of more than 32 768 clocks (the ADC
 #: offset's top band)
 CASES = [
@@ -29,8 +29,8 @@ CASES = [
     ("axi4lite_b3", lambda: MdfqmTop(3, 16, bus="axi4lite", max_bits=3), (50_000,)),
     ("mdfqm_only", lambda: MdfqmTop(3, 16, max_bits=0), (40_000,)),
     # a mixed pin polarity pair, both ways round (active-low upper drivers are common)
-    ("upper_low_b2", lambda: MdfqmTop(3, 16, upper_active_low=True, max_bits=2), (25_000,)),
-    ("lower_low_b2", lambda: MdfqmTop(3, 16, lower_active_low=True, max_bits=2), (25_000,)),
+    ("upper_low_b2", lambda: MdfqmTop(3, 16, upper_active_low=True, max_bits=2), (30_000,)),
+    ("lower_low_b2", lambda: MdfqmTop(3, 16, lower_active_low=True, max_bits=2), (30_000,)),
 ]
 
 

@@ -254,8 +254,9 @@ class RuntimeChanges(TopSequence):
                  "CTRL": run.nominal[regs.CTRL] ^ regs.CTRL_ZERO_POLICY,
                  "MODULATION": run.modulation_word(legal=True)}[name]
         run.nominal[address] = value
-        moment = run.aim(run.moment_update_start, lead=lead)
-        yield from run.settle(run.write(address, value, aim=moment))
+        yield from run.aimed(lambda: run.write(
+            address, value, aim=run.aim(run.moment_update_start, lead=lead)),
+            self.BEFORE if lead else self.POINT, name)
         yield from run.updates(1)
         yield from run.settle(run.read(address))
 
@@ -396,10 +397,9 @@ class DeadTime(TopSequence):
         dead_min = run.model.dead_min
         now = max(run.model.dead, dead_min)
         if pick == "below the floor":
-            value, moment = rng.randrange(dead_min), None
+            value, moment, lead = rng.randrange(dead_min), None, 0
         elif pick == "the clock before a turn-on":
-            value = now + rng.randint(1, 8)
-            moment = run.aim(run.moment_turn_on, lead=1)
+            value, moment, lead = now + rng.randint(1, 8), run.moment_turn_on, 1
         else:
             if pick.startswith("lowered"):      # from above the floor, so that it can drop
                 now += rng.randint(2, 12)
@@ -408,8 +408,10 @@ class DeadTime(TopSequence):
                 value = rng.randint(dead_min, now - 1)
             else:
                 value = now + rng.randint(1, 12)
-            moment = run.aim(run.moment_in_dead_time)
-        yield from run.settle(run.write(regs.DEAD, value, aim=moment), run.read(regs.DEAD))
+            moment, lead = run.moment_in_dead_time, 0
+        yield from run.aimed(lambda: run.write(
+            regs.DEAD, value, aim=moment and run.aim(moment, lead=lead)), self.POINT, pick)
+        yield from run.settle(run.read(regs.DEAD))
         yield from run.updates(rng.randint(1, 3))
         yield from run.settle(run.restore(regs.DEAD))
 
@@ -545,10 +547,12 @@ class RefArbitration(TopSequence):
         run, rng = self.run, self.rng
         codes = run.stream.sine_codes()
         writes = [run.write(regs.REF_BASE + i, pack([c], 32)) for i, c in enumerate(codes)]
-        if "commit in the clock a port beat is accepted" in run.coverage.open_bins(self.POINT):
+        against = "commit in the clock a port beat is accepted"
+        if against in run.coverage.open_bins(self.POINT):
             run.stream.eager = True
-            moment = run.aim(run.moment_beat)
-            writes.append(run.command(regs.CMD_REF_COMMIT, aim=moment))
+            yield from run.aimed(lambda: run.command(regs.CMD_REF_COMMIT,
+                                                     aim=run.aim(run.moment_beat)),
+                                 self.POINT, against)
         writes.append(run.command(regs.CMD_REF_COMMIT))
         if rng.random() < 0.5:
             writes.append(run.command(regs.CMD_REF_COMMIT))
@@ -832,6 +836,7 @@ class IrqService(TopSequence):
         self.source = self.rng.choice(same) if same else None
         self.claims = frozenset({IRQ} | {"FAULT": {FAULT},
                                          "WATCHDOG": {WATCHDOG, STREAM, REF, PERIOD},
+                                         "SHORT_EDGE": {MODULATION, PERIOD},
                                          }.get(self.source, set()))
 
     def body(self):
@@ -852,8 +857,8 @@ class IrqService(TopSequence):
 
     def clear_in_the_clock_of_an_event(self, bit):
         """The source's bit cleared first, then written 1 again in the very clock of its next
-        event (the fault pin raised, or the stream stalled under a short watchdog, when the
-        source is one of those)."""
+        event (the fault pin raised, the stream stalled under a short watchdog, or slots
+        shorter than the dead time, when the source is one of those)."""
         run, rng = self.run, self.rng
         yield from run.settle(run.write(regs.IRQ_STATUS, regs.IRQ_MASK))
         if self.source == "FAULT":
@@ -862,6 +867,12 @@ class IrqService(TopSequence):
             run.stream.stalled = True
             yield from run.settle(run.write(regs.PERIOD, rng.randint(20, 90)),
                                   run.write(regs.WATCHDOG, rng.randint(1, 3)))
+        elif self.source == "SHORT_EDGE":
+            if run.model.max_bits:
+                yield from run.settle(run.write(regs.MODULATION, run.modulation_word(
+                    mode=rng.randint(1, len(MODES) - 1), bits=min(2, run.model.max_bits))))
+            yield from run.settle(run.write(regs.PERIOD, rng.randint(run.model.latency, 48)))
+            yield from run.updates(2)
         model = run.model
 
         def gone() -> bool:
@@ -870,8 +881,11 @@ class IrqService(TopSequence):
                         else model.driver.fault if self.source == "FAULT" else False)
 
         patience = 65_536 * 5 if self.source == "WATCHDOG" else None
-        moment = run.aim(run.source_moment(self.source), patience=patience, unless=gone)
-        yield from run.settle(run.write(regs.IRQ_STATUS, bit | rng.getrandbits(32), aim=moment))
+        attempts = 1 if self.source in ("FAULT", "WATCHDOG") else 4    # once per latch rise
+        yield from run.aimed(lambda: run.write(
+            regs.IRQ_STATUS, bit | rng.getrandbits(32),
+            aim=run.aim(run.source_moment(self.source), patience=patience, unless=gone)),
+            self.SAME_CLOCK, self.source, attempts)
         if self.source == "FAULT":
             yield from run.wait(rng.randint(1, 8))
             run.fault_in = 0
@@ -881,6 +895,8 @@ class IrqService(TopSequence):
             run.stream.stalled = False
             yield from run.settle(run.restore(regs.WATCHDOG, regs.PERIOD),
                                   run.command(regs.CMD_WATCHDOG_CLEAR))
+        elif self.source == "SHORT_EDGE":
+            yield from run.settle(run.restore(regs.MODULATION, regs.PERIOD))
 
 
 class Counters(TopSequence):
@@ -910,8 +926,9 @@ class Counters(TopSequence):
         run, rng = self.run, self.rng
         open_ = run.coverage.open_bins(self.POINT)
         if "COUNT_CLEAR in the clock of a turn-on" in open_ or rng.random() < 0.2:
-            moment = run.aim(run.moment_turn_on)
-            yield from run.settle(run.command(regs.CMD_COUNT_CLEAR, aim=moment))
+            yield from run.aimed(lambda: run.command(regs.CMD_COUNT_CLEAR,
+                                                     aim=run.aim(run.moment_turn_on)),
+                                 self.POINT, "COUNT_CLEAR in the clock of a turn-on")
         if "EVENTS_TOTAL read after two legs turned on in one clock" in open_:
             run.two_on_since_read = False
             yield from run.until(lambda: run.two_on_since_read, limit=3000)
@@ -1232,27 +1249,31 @@ class TwoEventsInOneClock(TopSequence):
                 value |= regs.CMD_FAULT_CLEAR
         else:
             address, value = regs.IRQ_STATUS, rng.getrandbits(32)
-        moment, pin = None, None
-        if self.event == "fault pin edge":
-            pin = "fault_in"
-        elif self.event == "sync pulse":
-            pin = "sync_in"
-        elif self.event == "fault latch set":
-            run.fault_in = 1
-            moment = run.aim(run.moment_fault_latch, patience=10,
-                             unless=lambda: run.model.driver.fault)
-        else:
-            moment = run.aim({"update start": run.moment_update_start,
-                              "beat accepted": run.moment_beat,
-                              "gate turn-on": run.moment_turn_on}[self.event])
-            run.stream.eager = self.event == "beat accepted"
-        yield from run.settle(run.write(address, value, aim=moment, with_pin=pin))
-        run.stream.eager = False
-        if self.event.startswith("fault"):
-            yield from run.wait(rng.randint(2, 10))
-            run.fault_in = 0
-            yield from run.wait(4)
-            yield from run.settle(run.command(regs.CMD_FAULT_CLEAR))
+        pair = f"{self.kind} / {self.event}"
+        for _ in range(4):          # again while the bus missed the moment
+            moment, pin = None, None
+            if self.event == "fault pin edge":
+                pin = "fault_in"
+            elif self.event == "sync pulse":
+                pin = "sync_in"
+            elif self.event == "fault latch set":
+                run.fault_in = 1
+                moment = run.aim(run.moment_fault_latch, patience=10,
+                                 unless=lambda: run.model.driver.fault)
+            else:
+                moment = run.aim({"update start": run.moment_update_start,
+                                  "beat accepted": run.moment_beat,
+                                  "gate turn-on": run.moment_turn_on}[self.event])
+                run.stream.eager = self.event == "beat accepted"
+            yield from run.settle(run.write(address, value, aim=moment, with_pin=pin))
+            run.stream.eager = False
+            if self.event.startswith("fault"):
+                yield from run.wait(rng.randint(2, 10))
+                run.fault_in = 0
+                yield from run.wait(4)
+                yield from run.settle(run.command(regs.CMD_FAULT_CLEAR))
+            if run.coverage.covered(f"{self.POINT} an event", pair):
+                break
 
 
 class PinPolarity(TopSequence):

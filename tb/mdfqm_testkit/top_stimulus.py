@@ -212,6 +212,17 @@ class TopRun:
             patience = 4 * self.model.core.p_lat + 50
         return Aim(self, moment, lead, patience, unless)
 
+    def aimed(self, write, point: str, bin_: str, attempts: int = 4):
+        """Issue ``write()`` (it queues an aimed access and returns it) until the coverpoint's
+        bin is hit, as measured from the model, at most ``attempts`` times: the bus may be busy
+        in the clock of the moment, or the moment not come within the aim's patience.
+        True once hit."""
+        for _ in range(attempts):
+            yield from self.settle(write())
+            if self.coverage.covered(point, bin_):
+                return True
+        return False
+
     def settle(self, *accesses):
         """Wait until every access (lists of them too) has completed."""
         flat = [a for item in accesses for a in (item if isinstance(item, list) else [item])]
