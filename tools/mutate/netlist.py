@@ -544,11 +544,13 @@ def write_invariant_probe(directory: Path, mutation: Mutation, name: str,
     end = text.rindex("\nend")
     text = text[:end + 1] + "".join(added) + text[end + 1:] + "".join(modules)
     path.write_text(text)
-    if modules:            # one module, as the proof's netlist always is
-        yosys([f"read_rtlil {path.name}", "hierarchy -top dut", "flatten", "opt_clean",
-               f"write_rtlil {path.name}"], directory, f"{name}-flatten.log")
-        for suffix in ("-flatten.log", "-flatten.ys"):
-            (directory / f"{name}{suffix}").unlink()
+    # one module, as the proof's netlist always is; the constant tables Yosys made ROMs of
+    # (proc_rom) as logic: a ROM's words are state to the solver, free in an induction step,
+    # so that two tables of one index (a minimum and its count-down's load) would not agree
+    yosys([f"read_rtlil {path.name}", "hierarchy -top dut", "flatten", "memory_map",
+           "opt_clean", f"write_rtlil {path.name}"], directory, f"{name}-flatten.log")
+    for suffix in ("-flatten.log", "-flatten.ys"):
+        (directory / f"{name}{suffix}").unlink()
     return path
 
 

@@ -39,7 +39,8 @@ class Sampled:
 @dataclass(frozen=True)
 class Proof:
     """A check that backs a reading: ``asserts`` (Verilog expressions over the original design's
-    wires, each written ``{name}`` with its flattened name, e.g. ``{core.sequencer.phase}``)
+    wires, each written ``{name}`` with its flattened name, e.g. ``{core.sequencer.phase}``; a
+    Verilog concatenation keeps a space after its commas, ``{2'b00, {x}}``)
     added to the block's own proof with the mutation's probe (the mutated cell computes what
     the original does, in every state: :func:`tools.mutate.netlist.write_reading_probe`),
     proven by k-induction to ``depth`` clocks (None: the block's). Passing, every assertion and
@@ -340,9 +341,20 @@ READINGS: tuple[Reading, ...] = (
         "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[6] const0",
         _minimum_bit_cleared(6)),
     Reading(
-        "rtl/mdfqm_gateware/top.py@1e4440e4 top $dff#0 Q[4] cnot1/16",
+        "rtl/mdfqm_gateware/top.py@25b138d6 top $dff#0 Q[4] cnot1/16",
         "bit 4 of the ADC trigger counter (17 bits) is inverted while its bit 16 is set, and "
         "bit 16 is never set: the count restarts at every update start (`elapsed` is 0 in a "
         "start clock) and no update lasts more than 65,535 clocks (PERIOD is 16 bits, every "
-        "minimum period is below it), so the count stays below 2**16."),
+        "minimum period is below it), so the count stays below 2**16.",
+        # the count is the sequencer's phase; the two count-downs are the latched period and
+        # minimum less the phase, so both are negative (the update ends) before the phase
+        # could wrap: it reaches 65535 only in a start clock
+        Proof((
+            "{adc_cnt} == {1'b0, {core.sequencer.phase}}",
+            "{core.sequencer.phase} == 16'd0 || {core.sequencer.count} == "
+            "{2'b00, {core.sequencer.period_lat}} - 18'd2 - {2'b00, {core.sequencer.phase}}",
+            "{core.sequencer.phase} == 16'd0 || {core.sequencer.floor} == "
+            "{2'b00, {core.sequencer.minimum}} - 18'd2 - {2'b00, {core.sequencer.phase}}",
+            "{core.sequencer.phase} != 16'hffff || {core.sequencer.start}",
+        ))),
 )

@@ -242,8 +242,13 @@ def formal_verdict(text: str, name: str) -> dict:
         raise RuntimeError(f"the proof of {name} did not run:\n{text[-3000:]}")
     if "FAIL for basecase" in text or "DONE (FAIL" in text:
         site = re.search(r"failed assertion \S+ at (\S+):(\d+) step (\d+)", text)
-        if site is None:
-            return {"verdict": KILLED, "killed": True, "detail": "proof: counterexample"}
+        if site is None:        # an assertion without a source line (a probe's, a lemma's)
+            named = re.search(r"failed assertion (\S+)(?: at\s*\S*?)?(?:\s+step (\d+))?$", text,
+                              re.M)
+            return {"verdict": KILLED, "killed": True,
+                    "detail": "proof: counterexample" + (
+                        "" if named is None else f" ({named.group(1).rpartition('.')[2]}"
+                        + (f", step {named.group(2)})" if named.group(2) else ")"))}
         return {"verdict": KILLED, "killed": True,
                 "detail": f"proof: counterexample at step {site.group(3)}, "
                           f"\"{assertion_message(site.group(1), int(site.group(2)))}\" "
