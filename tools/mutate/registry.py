@@ -10,8 +10,8 @@
   equivalent only when a check proves it, and a reading's :class:`Proof` is such a check (the
   campaign's equivalence stage runs it, :func:`tools.mutate.stages.run_reading`).
 
-:data:`SAMPLE` is written by ``python -m tools.mutate.sample --write`` (keep its markers);
-:data:`READINGS` by hand.
+:data:`SAMPLE` is written by ``python -m tools.mutate.sample --write`` (keep its markers; the
+test of the registry writes it again and compares); :data:`READINGS` by hand.
 """
 
 from __future__ import annotations
@@ -67,8 +67,11 @@ def reading(key: str) -> Reading | None:
     return next((r for r in READINGS if r.key == key), None)
 
 
-# -- sample: written by `python -m tools.mutate.sample --write` (seed 7); the comments are the
+# -- sample: written by tools/mutate/sample.py (--write), not by hand; the comments are the
 # -- source text each key names
+# -- origin: drawn with seed 7 by the line-keyed sample tool before the keys named source text
+# --   (the Wishbone top's two-events row chosen by hand among the mutants it killed), then its
+# --   keys translated cell for cell into source-text keys on the same netlists
 SAMPLE: tuple[Sampled, ...] = (
     # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
     Sampled("core",

@@ -155,10 +155,10 @@ def tool_versions() -> str:
             f"{cocotb.__version__}, Amaranth {amaranth.__version__}, {yices}")
 
 
-def load() -> dict[str, dict]:
+def load(build: Path = BUILD) -> dict[str, dict]:
     dbs = {}
     for name in ORDER:
-        path = BUILD / name / "results.json"
+        path = Path(build) / name / "results.json"
         if path.exists():
             dbs[name] = json.loads(path.read_text())
     return dbs
@@ -212,9 +212,10 @@ def traceability() -> list[str]:
     return [*lines, summary().strip()]
 
 
-def write_report(out: str | Path = "reports", command: str | None = None) -> Path:
-    """Write ``<out>/MUTATION.md``; returns its path."""
-    dbs = load()
+def write_report(out: str | Path = "reports", command: str | None = None,
+                 build: Path = BUILD) -> Path:
+    """Write ``<out>/MUTATION.md`` from the databases under ``build``; returns its path."""
+    dbs = load(build)
     zones = regions()
     lines = ["# Mutation campaign", "", _method(), ""]
     if not dbs:

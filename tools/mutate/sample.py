@@ -22,6 +22,7 @@ import argparse
 import json
 import random
 import re
+import textwrap
 from pathlib import Path
 
 from .blocks import BLOCKS
@@ -31,8 +32,8 @@ from .registry import SAMPLE, Sampled
 from .stages import MutantBench, run_vectors
 
 __all__ = ["ANY", "CLASSES", "DOCS", "ROWS", "SEED", "TRIED", "build", "docs_mismatches",
-           "draw", "main", "mutant_cell", "registry_text", "stimulus", "write_docs",
-           "write_registry"]
+           "draw", "main", "mutant_cell", "registry_origin", "registry_text", "stimulus",
+           "write_docs", "write_registry"]
 
 BUILD = ROOT / "build" / "mutate" / "sample"
 #: The sample's stimulus per block: the block's own vector stimulus, shortened (clocks per
@@ -253,8 +254,10 @@ def _port_matches(port: str, bit: int, ports) -> bool:
 
 # ------------------------------------------------------------------------------ the registry
 REGISTRY = ROOT / "tools" / "mutate" / "registry.py"
-_BEGIN = "# -- sample: written by"
+_BEGIN = ("# -- sample: written by tools/mutate/sample.py (--write), not by hand; the comments "
+          "are the")
 _END = "# -- end of the sample"
+_ORIGIN = "# -- origin: "
 
 
 def _unit_text(key: str) -> str:
@@ -264,10 +267,12 @@ def _unit_text(key: str) -> str:
     return "(no source)"
 
 
-def registry_text(sample: list[Sampled], seed: int) -> str:
-    """The registry's SAMPLE section for ``sample`` (between its markers, markers included)."""
-    out = [f"{_BEGIN} `python -m tools.mutate.sample --write` (seed {seed}); the comments are "
-           "the", "# -- source text each key names", "SAMPLE: tuple[Sampled, ...] = ("]
+def registry_text(sample: list[Sampled], origin: str) -> str:
+    """The registry's SAMPLE section for ``sample`` (between its markers, markers included);
+    ``origin``: how the sample was drawn."""
+    out = [_BEGIN, "# -- source text each key names", *textwrap.wrap(
+        origin, 96, initial_indent=_ORIGIN, subsequent_indent="# --   "),
+        "SAMPLE: tuple[Sampled, ...] = ("]
     for entry in sample:
         text = _unit_text(entry.key)
         text = text if len(text) <= 88 else text[:85] + "..."
@@ -278,12 +283,24 @@ def registry_text(sample: list[Sampled], seed: int) -> str:
     return "\n".join(out)
 
 
-def write_registry(sample: list[Sampled], seed: int, path: Path = REGISTRY) -> None:
+def registry_origin(path: Path = REGISTRY) -> str:
+    """How the registry's sample was drawn (its ``origin`` comment)."""
+    lines = path.read_text().split("\n")
+    first = next(i for i, line in enumerate(lines) if line.startswith(_ORIGIN))
+    words = [lines[first].removeprefix(_ORIGIN)]
+    for line in lines[first + 1:]:
+        if not line.startswith("# --   "):
+            break
+        words.append(line.removeprefix("# --   "))
+    return " ".join(words)
+
+
+def write_registry(sample: list[Sampled], origin: str, path: Path = REGISTRY) -> None:
     """Replace the SAMPLE section of the registry (``path``) with ``sample``."""
     text = path.read_text()
     first = text.index(_BEGIN)
     last = text.index(_END) + len(_END)
-    path.write_text(text[:first] + registry_text(sample, seed) + text[last:])
+    path.write_text(text[:first] + registry_text(sample, origin) + text[last:])
 
 
 # ------------------------------------------------------------------- docs/robustness.md
@@ -383,12 +400,13 @@ def main(argv=None) -> int:
         print(f"wrote {DOCS.relative_to(ROOT)}")
         return 0
     sample = draw(args.seed)
+    origin = f"drawn by `python -m tools.mutate.sample --write --seed {args.seed}`"
     if args.write:
-        write_registry(sample, args.seed)
+        write_registry(sample, origin)
         print(f"wrote {REGISTRY.relative_to(ROOT)}; the table: python -m tools.mutate.sample "
               "--docs")
     else:
-        print(registry_text(sample, args.seed))
+        print(registry_text(sample, origin))
     return 0
 
 

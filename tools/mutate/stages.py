@@ -282,7 +282,7 @@ def run_invariant(component, name: str, depth: int, probe_il: Path) -> dict:
                 "detail": "the mutated bit can differ from the original (a "
                           + result["detail"].removeprefix("proof: ") + ")"}
     return {"verdict": "undecided",
-            "detail": "not proven: " + result["detail"].removeprefix("proof: ")}
+            "detail": "not proven: " + _without_verdict(result["detail"])}
 
 
 def run_reading(component, name: str, depth: int, probe_il: Path, lemmas: int) -> dict:
@@ -301,8 +301,13 @@ def run_reading(component, name: str, depth: int, probe_il: Path, lemmas: int) -
                 "detail": "the reading's proof fails from reset (the reading is wrong: "
                           + result["detail"].removeprefix("proof: ") + ")"}
     return {"verdict": "undecided",
-            "detail": "the reading's proof does not close: "
-                      + result["detail"].removeprefix("proof: ")}
+            "detail": "the reading's proof does not close: " + _without_verdict(result["detail"])}
+
+
+def _without_verdict(detail: str) -> str:
+    """A proof's undecided detail without the formal stage's words about kills."""
+    return detail.removeprefix("proof: ").replace(" (undecided, not a kill)", "").replace(
+        ": undecided, not a kill", "")
 
 
 def assertion_message(path: str, line: int) -> str:

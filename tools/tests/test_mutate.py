@@ -146,6 +146,16 @@ def test_the_registry_names_source_text_that_exists():
     assert len({r.key for r in registry.READINGS}) == len(registry.READINGS)
 
 
+def test_the_registrys_sample_is_as_its_writer_writes_it(tmp_path):
+    """The SAMPLE section is the writer's (``--write``): written again from itself, with its
+    origin, the registry is unchanged (a hand edit, or a comment that no longer shows the
+    text its key names, fails here)."""
+    copy = tmp_path / "registry.py"
+    copy.write_text(sample.REGISTRY.read_text())
+    sample.write_registry(list(registry.SAMPLE), sample.registry_origin(copy), copy)
+    assert copy.read_text() == sample.REGISTRY.read_text()
+
+
 def test_each_sample_mutant_is_of_its_class_or_rows_logic():
     """A sample mutant sits at the source its class or row of tools/mutate/sample.py names, with
     one of its modes and ports (what the draw would pick there)."""
@@ -484,3 +494,38 @@ def test_a_readings_proof_backs_it_only_with_lemmas_that_hold(tmp_path):
     assert "fails from reset" in results["wrong"]["detail"]
     assert results["unknown"]["verdict"] == "undecided"
     assert "no wire nowhere" in results["unknown"]["detail"]
+
+
+def test_the_report_counts_a_reading_only_through_its_proof(tmp_path):
+    """A database with a kill, an equivalent mutant proven by a reading's proof and an
+    undecided one with a reading but no passing proof: the first is *equivalent* (its proof
+    named), the second stays *undecided* and its reading is printed as an explanation, not
+    checked; a mutant that went on past an undecided proof is counted so, not as a kill."""
+    read_key = registry.READINGS[-1].key            # the ADC counter's, with a proof
+    unread_key = next(r.key for r in registry.READINGS if r.proof is None)
+    records = {
+        "k": {"status": "killed", "stage": "vector", "detail": "run0: 3 mismatches",
+              "log": ["vector: run0: 3 mismatches"]},
+        read_key: {"status": "equivalent", "stage": "equivalence", "by": "reading",
+                   "detail": "proven by the reading's proof", "log": ["reading: proven"],
+                   "undecided": ["formal"]},
+        unread_key: {"status": "undecided", "stage": "equivalence",
+                     "detail": "no difference within 11 clocks of reset; not proven equivalent",
+                     "log": ["vector: 10 clocks equal", "equivalence: no difference"]},
+    }
+    mutations = [{"key": key, "wire": "", "src": []} for key in records]
+    (tmp_path / "db" / "top_wb").mkdir(parents=True)
+    (tmp_path / "db" / "top_wb" / "results.json").write_text(json.dumps({
+        "title": "top, Wishbone", "seed": 1, "jobs": 2, "seconds": 60, "date": "2026-01-02",
+        "mutations": mutations, "results": records}))
+    text = report.write_report(tmp_path, "python -m tools.mutate",
+                               tmp_path / "db").read_text()
+    assert "| top, Wishbone | 3 | 1 (1 / 0 / 0) | 1 (0 / 1 / 0) | 1 (1) | 0 | 50.0 % |" in text
+    assert "1 mutants went on past a stage that could not decide" in text
+    assert "results of 2026-01-02" in text
+    equivalent, survivors = (text.split("## Equivalent by a reading's proof")[1],
+                             text.split("## Survivors and undecided mutants")[1])
+    assert read_key in equivalent and "reading, proven (its lemmas: `{adc_cnt}" in equivalent
+    assert unread_key in survivors.split("## Equivalent")[0]
+    assert "reading (an explanation, not checked: no proof backs it)" in survivors
+    assert "## Traceability" in text
