@@ -11,7 +11,9 @@
   campaign's equivalence stage runs it, :func:`tools.mutate.stages.run_reading`).
 
 :data:`SAMPLE` is written by ``python -m tools.mutate.sample --write`` (keep its markers; the
-test of the registry writes it again and compares); :data:`READINGS` by hand.
+test of the registry writes it again and compares); :data:`READINGS` by hand, and a proof added
+to a reading is run on the campaign's databases by ``python -m tools.mutate --resume --recheck``
+(or on one mutant, ``--block <block> --only '<key>'``).
 """
 
 from __future__ import annotations

@@ -173,9 +173,11 @@ def _method() -> str:
             "stimulus (tb/mdfqm_testkit/vectors.py, every output every clock against the "
             "model), then its cocotb tests, then its SymbiYosys proof (the mutation applied to "
             "the proof's own netlist), stopping at the first kill. A kill is a failure that "
-            "shows the mutant wrong: a vector mismatch, a failing cocotb test, a counterexample "
-            "from reset. A proof whose induction no longer closes without a counterexample "
-            "from reset, or a proof or a cocotb run out of time, is no kill: the mutant goes on "
+            "shows the mutant wrong: a vector mismatch (or its simulation stopping on a one-hot "
+            "select with two bits set, a state the original never reaches), a failing cocotb "
+            "test, a counterexample from reset. A proof whose induction no longer closes "
+            "without a counterexample from reset, or a proof or a cocotb run out of time, is no "
+            "kill: the mutant goes on "
             "to the next stage. A survivor is compared with the original: first a longer "
             "simulation than the tests run (the same stimulus with two other seeds); then the "
             "block's own proof with a probe, an assertion that what the mutation changes (the "
@@ -237,7 +239,7 @@ def write_report(out: str | Path = "reports", command: str | None = None,
                   f"- Tools: {tool_versions()}.", "",
                   "## Per block", "",
                   "| block | tried | killed (vector / cocotb / formal) | equivalent, proven "
-                  "(probe / reading's proof / equiv) | undecided (with a reading, unchecked) | "
+                  "(probe / reading's proof / equiv) | undecided (of them read, not proven) | "
                   "survived | killed of non-equivalent | target |",
                   "|---|---|---|---|---|---|---|---|"]
         survivors, by_reading = [], []
