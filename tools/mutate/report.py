@@ -341,5 +341,6 @@ def _mutant_lines(name: str, m: dict, r: dict) -> list[str]:
     return [f"- **{name}** `{m['key']}`" + (f" (wire `{m['wire']}`)" if m["wire"] else ""),
             f"  - source: `{location}`: `{text}`" if text else f"  - source: `{location}`",
             f"  - {verdict}: {r['detail']}" + (f"; first difference: {diff}" if diff else ""),
-            f"  - passed: {'; '.join(r.get('log', [])[:-1]) or '-'}",
+            # the stages before the verdict: passed, or (a proof that did not close) undecided
+            f"  - before: {'; '.join(r.get('log', [])[:-1]) or '-'}",
             f"  {why}"]
