@@ -37,6 +37,9 @@ VERILATOR_MAKEFLAGS = "CFG_CXXFLAGS_PCH_I=-include"
 #: a dev dependency) that happens once per machine and flags, and an unchanged model is not
 #: compiled again. The cache is ccache's own (``CCACHE_DIR``, by default ~/.cache/ccache).
 VERILATOR_CACHE_MAKEFLAGS = "OBJCACHE=ccache"
+#: Set to 1 by .ci/run: a test whose tool (not on PyPI) is missing fails instead of skipping, so
+#: that a CI run cannot pass without the checks that tool makes.
+REQUIRE_TOOLS_ENV = "MDFQM_REQUIRE_TOOLS"
 
 
 def verilator_build_env() -> None:
@@ -59,6 +62,17 @@ def verilator_build_env() -> None:
 # --------------------------------------------------------------------------------------------
 # pytest side
 # --------------------------------------------------------------------------------------------
+
+def tool_missing(message: str) -> None:
+    """End the calling test because a tool it needs is missing; ``message`` says which and how
+    to install it. A skip on a developer's machine, a failure under ``MDFQM_REQUIRE_TOOLS=1``."""
+    import pytest
+
+    if os.environ.get(REQUIRE_TOOLS_ENV) == "1":
+        pytest.fail(f"{message} ({REQUIRE_TOOLS_ENV}=1: a missing tool fails the run)",
+                    pytrace=False)
+    pytest.skip(message)
+
 
 def param_tag(params: Mapping[str, object]) -> str:
     return "-".join(f"{key}{value}" for key, value in sorted(params.items())) or "default"

@@ -331,11 +331,11 @@ READINGS: tuple[Reading, ...] = (
         _TOGGLED_WHILE_HELD.format(what="bit 8 of `minimum` (the minimum period; the mutation "
                                         "inverts it while bit 15, always clear, is clear)")),
     Reading(
-        "rtl/mdfqm_gateware/resolution.py@d034b08a core.quantiser $dff#0 Q[3] cnot0/7",
+        "rtl/mdfqm_gateware/resolution.py@9dbd1841 core.quantiser $dff#0 Q[3] cnot0/7",
         _HI_PAST_LAST.format(what="bit 3 of the quantiser's `hi` of leg 0 is inverted while its "
                                   "bit 7 is clear", when="its bit 7 is clear", value=264)),
     Reading(
-        "rtl/mdfqm_gateware/resolution.py@d034b08a core.quantiser $mux#1 Y[6] cnot1/8",
+        "rtl/mdfqm_gateware/resolution.py@9dbd1841 core.quantiser $mux#1 Y[6] cnot1/8",
         _HI_PAST_LAST.format(what="bit 6 of what the quantiser's `hi` of leg 1 is loaded with "
                                   "is inverted while its bit 8 is set",
                              when="its bit 8 is set", value=320)),
@@ -345,21 +345,4 @@ READINGS: tuple[Reading, ...] = (
     Reading(
         "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[6] const0",
         _minimum_bit_cleared(6)),
-    Reading(
-        "rtl/mdfqm_gateware/top.py@25b138d6 top $dff#0 Q[4] cnot1/16",
-        "bit 4 of the ADC trigger counter (17 bits) is inverted while its bit 16 is set, and "
-        "bit 16 is never set: the count restarts at every update start (`elapsed` is 0 in a "
-        "start clock) and no update lasts more than 65,535 clocks (PERIOD is 16 bits, every "
-        "minimum period is below it), so the count stays below 2**16.",
-        # the count is the sequencer's phase; the two count-downs are the latched period and
-        # minimum less the phase, so both are negative (the update ends) before the phase
-        # could wrap: it reaches 65535 only in a start clock
-        Proof((
-            "{adc_cnt} == {1'b0, {core.sequencer.phase}}",
-            "{core.sequencer.phase} == 16'd0 || {core.sequencer.count} == "
-            "{2'b00, {core.sequencer.period_lat}} - 18'd2 - {2'b00, {core.sequencer.phase}}",
-            "{core.sequencer.phase} == 16'd0 || {core.sequencer.floor} == "
-            "{2'b00, {core.sequencer.minimum}} - 18'd2 - {2'b00, {core.sequencer.phase}}",
-            "{core.sequencer.phase} != 16'hffff || {core.sequencer.start}",
-        ))),
 )

@@ -496,12 +496,15 @@ def test_a_readings_proof_backs_it_only_with_lemmas_that_hold(tmp_path):
     assert "no wire nowhere" in results["unknown"]["detail"]
 
 
-def test_the_report_counts_a_reading_only_through_its_proof(tmp_path):
+def test_the_report_counts_a_reading_only_through_its_proof(tmp_path, monkeypatch):
     """A database with a kill, an equivalent mutant proven by a reading's proof and an
     undecided one with a reading but no passing proof: the first is *equivalent* (its proof
     named), the second stays *undecided* and its reading is printed as an explanation, not
     checked; a mutant that went on past an undecided proof is counted so, not as a kill."""
-    read_key = registry.READINGS[-1].key            # the ADC counter's, with a proof
+    read_key = "rtl/mdfqm_gateware/top.py@00000000 top $dff#0 Q[4] inv"
+    proven = registry.Reading(read_key, "a reading with a proof",
+                              registry.Proof(("{adc_cnt} == {core.sequencer.phase}",)))
+    monkeypatch.setattr(registry, "READINGS", (*registry.READINGS, proven))
     unread_key = next(r.key for r in registry.READINGS if r.proof is None)
     records = {
         "k": {"status": "killed", "stage": "vector", "detail": "run0: 3 mismatches",
