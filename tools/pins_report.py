@@ -97,6 +97,7 @@ from mdfqm_spec.contract import FEWEST_TRANSITIONS, MODES, Contract
 from mdfqm_testkit.top_bench import WishboneMaster
 from tools.analysis.comparisons import loglog_interp
 from tools.analysis.metrics import PWave, distortion
+from tools.analysis.plots import save_figure
 from tools.analysis.progress import Progress
 from tools.analysis.signals import bbit_method, mdfqm, reference_codes, run_method
 from tools.analysis.sweeps import Config
@@ -930,9 +931,7 @@ def make_plots(rows: list[dict], records: list[dict], cfg: Setting, out: Path) -
     files = []
 
     def save(fig, name):
-        fig.tight_layout()
-        fig.savefig(out / name, dpi=72)
-        plt.close(fig)
+        save_figure(fig, out / name)
         files.append(name)
 
     real = [r for r in rows if r["dead_clocks"] == DEAD_CLOCKS]
