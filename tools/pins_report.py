@@ -21,13 +21,17 @@ the wrap included); *gate turn-ons* are turn-ons of either switch of a leg at th
 ``EVENTS`` counters count these); a *swallowed pulse* is a commanded pulse no longer than the
 dead time, after which the switch that was on comes back.
 
-The dead-time transform (:func:`dead_time_gates`) is written from the gate driver's documented
-contract (docs/top.md, "Gate driver", with ``MIN_PULSE`` 0 and a constant dead time ``dt``),
-not from the RTL: a leg is on to its command; when the command changes at ``e`` both switches
-turn off and stay off on ``[e, e + dt)``; at ``e + dt`` the switch the command names *then* turns
-on (if the command reverted within the dead time, the one that was on comes back: the pulse is
-swallowed); the next blanking starts at the next command edge after that. At the pins
-everything is one clock later (the driver's registers); the report aligns the windows.
+The dead time: in part (a), on clocks, the golden model's gate driver
+(:class:`mdfqm_model.driver.GateDriverModel`, enabled, ``MIN_PULSE`` 0, no fault) turns the
+command into gates; at the pins everything is one clock later (the driver's registers), and the
+report aligns the windows. Part (b) has no clock, so it keeps a continuous-time transform
+(:func:`dead_time_gates`, the driver's rules with a constant dead time ``dt``): a leg is on to
+its command; when the command changes at ``e`` both switches turn off and stay off on
+``[e, e + dt)``; at ``e + dt`` the switch the command names *then* turns on (if the command
+reverted within the dead time, the one that was on comes back: the pulse is swallowed); the
+next blanking starts at the next command edge after that. ``tools/tests/test_pins_report.py``
+checks that transform against ``GateDriverModel`` on clock-aligned edges (random commands and
+SVPWM's), so both parts apply the same driver.
 
 Modelling assumption, the freewheeling diodes: while both switches of a leg are off the phase
 current flows through a diode: the pole voltage is the lower rail (0) when the leg's current
@@ -44,14 +48,15 @@ the slot modes one carrier period per sample at b = 8 and b = 4). The clock is `
 2.003 us, the dead time of the paper's experiment (2 us). ``MdfqmTop(3, 16, max_bits=8,
 dead_min=1)`` runs under Verilator (vector-file path, every pin dumped every clock, every
 output compared every clock with ``TopModel``) for each mode, programmed through Wishbone as
-firmware would (``PERIOD``, ``OSR``, ``DEAD``, ``MIN_PULSE``, ``MODULATION``, ``CTRL``) and fed
-the reference on its stream port. "Without dead time" at the pins is ``DEAD`` = 1 clock
+firmware would (``PERIOD``, ``OSR``, ``DEAD``, ``MIN_PULSE``, ``MODULATION``, ``CTRL``; the
+project's master, :class:`mdfqm_testkit.top_bench.WishboneMaster`, seeded) and fed the reference
+on its stream port. "Without dead time" at the pins is ``DEAD`` = 1 clock
 (0.1 us), the least a safe driver allows; the model's ideal complementary switching (dt = 0)
 is shown beside it. The model's numbers come from the per-update model
-(:func:`mdfqm_model.bbit.modulate_bbit`) expanded to clocks and passed through the dead-time
-transform; the RTL's from the pins the simulation wrote. Both windows start where the update
-that used the first window sample is presented (after a lead-in of ``lead`` samples that
-flushes the start-up) and hold whole reference periods.
+(:func:`mdfqm_model.bbit.modulate_bbit`) expanded to clocks and passed through
+``GateDriverModel`` (:func:`driver_gates`); the RTL's from the pins the simulation wrote. Both
+windows start where the update that used the first window sample is presented (after a lead-in
+of ``lead`` samples that flushes the start-up) and hold whole reference periods.
 
 Part (b): over amplitude 0.05 .. 0.575 at 50 Hz and three budgets of pole-voltage switching
 events per second (all legs), each mode's update or carrier rate is tuned to the budget: the
@@ -71,6 +76,7 @@ import bisect
 import csv
 import math
 import platform
+import random
 import subprocess
 import sys
 import time
@@ -84,11 +90,14 @@ import numpy as np
 
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_model.bbit import modulate_bbit
+from mdfqm_model.driver import GateDriverModel
 from mdfqm_model.top import TopModel
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import FEWEST_TRANSITIONS, MODES, Contract
+from mdfqm_testkit.top_bench import WishboneMaster
 from tools.analysis.comparisons import loglog_interp
 from tools.analysis.metrics import PWave, distortion
+from tools.analysis.plots import save_figure
 from tools.analysis.progress import Progress
 from tools.analysis.signals import bbit_method, mdfqm, reference_codes, run_method
 from tools.analysis.sweeps import Config
@@ -112,6 +121,7 @@ __all__ = [
     "GateWave",
     "Setting",
     "dead_time_gates",
+    "driver_gates",
     "equalise",
     "firmware_stimulus",
     "main",
@@ -134,6 +144,11 @@ MIN_DEAD_CLOCKS = 1
 DEAD_SECONDS = DEAD_CLOCKS / F_CLK
 #: gate state of a leg with both switches off (1: upper on, 0: lower on)
 OFF = -1
+#: the seed of the Wishbone master's gaps: the same stimulus in every run
+FIRMWARE_SEED = 31
+#: clocks one write can take with that master (``stb`` up to two clocks after ``cyc``, the
+#: request, the ``ack``, up to two idle clocks after it)
+WRITE_CLOCKS = 6
 
 
 def _method(mode: str, bits: int, osr: int = 1, zero_policy: int = 0) -> Method:
@@ -252,8 +267,12 @@ def _leg_gates(t: list, s: list, initial: int, dead: float) -> tuple[list, list]
             last = v
     out_t, out_g = [t[0]], [initial]
     cur, end = -math.inf, t[-1]
+    # A command edge at the end of a dead time is in force there (the driver turns on the
+    # switch it names and starts no new blanking). In seconds ``e + dead`` and an edge a dead
+    # time after ``e`` on a clock grid differ by rounding only: within ``near`` they coincide.
+    near = dead * 1e-6
     while True:
-        j = bisect.bisect_right(edges, cur)           # the next command edge after ``cur``
+        j = bisect.bisect_right(edges, cur + near)    # the next command edge after ``cur``
         if j == len(edges):
             break
         e = edges[j]
@@ -264,7 +283,7 @@ def _leg_gates(t: list, s: list, initial: int, dead: float) -> tuple[list, list]
         if on >= end:
             break
         out_t.append(on)                               # the switch the command names now
-        out_g.append(s[bisect.bisect_right(t, on) - 1])
+        out_g.append(s[bisect.bisect_right(t, on + near) - 1])
         cur = on
     return out_t, out_g
 
@@ -284,9 +303,11 @@ def _transform(t: np.ndarray, s: np.ndarray, initial: np.ndarray, dead: float) -
 def dead_time_gates(cmd: PWave, dead: float, periodic: bool = False) -> GateWave:
     """The gates a driver with dead time ``dead`` (same unit as ``cmd.t``) makes of the command
     waveform ``cmd`` (pole states 0/1; the driver's rules in the module docstring, minimum pulse
-    0). Before ``cmd.t[0]`` each leg has been on to its first command for longer than ``dead``;
-    with ``periodic`` the command repeats instead (the legs enter on to the last command, the
-    transform runs over two periods and keeps the second: the periodic steady state)."""
+    0), in continuous time: part (b)'s; on clocks the golden model's driver
+    (:func:`driver_gates`) gives the same gates one clock later. Before ``cmd.t[0]`` each leg
+    has been on to its first command for longer than ``dead``; with ``periodic`` the command
+    repeats instead (the legs enter on to the last command, the transform runs over two periods
+    and keeps the second: the periodic steady state)."""
     t, s = np.asarray(cmd.t, float), np.asarray(cmd.s).astype(np.int64)
     if not periodic:
         return _transform(t, s, s[0], dead)
@@ -294,6 +315,21 @@ def dead_time_gates(cmd: PWave, dead: float, periodic: bool = False) -> GateWave
     two = _transform(np.concatenate([t[:-1], t + span]), np.vstack([s, s]), s[-1], dead)
     second = two.window(t[-1], t[-1] + span)
     return GateWave(second.t + t[0], second.g)
+
+
+def driver_gates(h_clock: np.ndarray, dead: int) -> tuple[np.ndarray, np.ndarray]:
+    """The golden model's gate driver (:class:`GateDriverModel`: enabled, ``DEAD`` = ``dead``
+    clocks, ``MIN_PULSE`` 0, no fault) commanded ``h_clock[c]`` in clock ``c``: its upper and
+    lower gates (active-high bitmasks), element ``c`` being those of clock ``c + 1`` (the
+    driver's registers). The legs start off (after a reset): the first dead time is a start-up
+    that a window after a lead-in excludes."""
+    driver = GateDriverModel(PHASES, MIN_DEAD_CLOCKS)
+    up = np.empty(len(h_clock), dtype=np.int64)
+    lo = np.empty(len(h_clock), dtype=np.int64)
+    for c, h in enumerate(h_clock.tolist()):
+        driver.step(h=h, update=1, enable=1, dead=dead)
+        up[c], lo[c] = driver.up, driver.lo
+    return up, lo
 
 
 # ---------------------------------------------------------------------------- the load
@@ -383,8 +419,10 @@ def measure_gates(gw: GateWave, f0: float, tau: float, f_band: float) -> dict:
 def firmware_stimulus(method: Method, dead: int, beats: np.ndarray, inputs, outputs):
     """The top's inputs and ``TopModel``'s outputs, clock by clock: a reset, then Wishbone
     writes as firmware would make them (``PERIOD``, ``OSR``, ``DEAD``, ``MIN_PULSE``,
-    ``MODULATION``, ``CTRL`` with ``ENABLE``; one write at a time, the next after the ``ack``),
-    then ``beats`` on the reference stream port, each offered until ``ready`` takes it.
+    ``MODULATION``, ``CTRL`` with ``ENABLE``), issued by the tests' master
+    (:class:`mdfqm_testkit.top_bench.WishboneMaster`: one write at a time, the next after the
+    ``ack``, idle gaps between, seeded with ``FIRMWARE_SEED``), then ``beats`` on the reference
+    stream port, each offered until ``ready`` takes it.
 
     Returns ``(stim, expected, command, first_start)``: ``stim``/``expected`` by port name,
     ``command`` the model's generator ``h`` and ``update`` of every clock (what the driver is
@@ -393,25 +431,22 @@ def firmware_stimulus(method: Method, dead: int, beats: np.ndarray, inputs, outp
     modulation = (MODES.index(method.mode) << regs.MODULATION_MODE_SHIFT
                   | method.bits << regs.MODULATION_BITS_SHIFT)
     ctrl = regs.CTRL_ENABLE | (regs.CTRL_ZERO_POLICY if method.zero_policy else 0)
-    ops = deque([(regs.PERIOD, method.period * SLOT_CLOCKS), (regs.OSR, method.osr),
-                 (regs.DEAD, dead), (regs.MIN_PULSE, 0), (regs.MODULATION, modulation),
-                 (regs.CTRL, ctrl)])
-    cycles = 2 + 2 * len(ops) + (len(beats) + 1) * CLOCKS + model.long_latency
+    writes = [(regs.PERIOD, method.period * SLOT_CLOCKS), (regs.OSR, method.osr),
+              (regs.DEAD, dead), (regs.MIN_PULSE, 0), (regs.MODULATION, modulation),
+              (regs.CTRL, ctrl)]
+    ops = deque((address, 1, value) for address, value in writes)
+    master = WishboneMaster(random.Random(FIRMWARE_SEED))
+    cycles = 1 + WRITE_CLOCKS * len(ops) + (len(beats) + 1) * CLOCKS + model.long_latency
     stim = {port: [0] * cycles for port, _ in inputs}
     expected = {port: [0] * cycles for port, _ in outputs}
     command = {"h": [0] * cycles, "update": [0] * cycles}
-    current, q, first_start = None, 0, None
+    q, first_start = 0, None
     payloads = [pack(row, WIDTH) for row in beats.tolist()]
     rows = beats.tolist()
     for cycle in range(cycles):
         rst = int(cycle == 0)
-        if current is None and ops and not rst:
-            current = ops.popleft()
-        adr, data = current or (0, 0)
-        busy = int(current is not None)
-        bus = {"wb_cyc": busy, "wb_stb": busy, "wb_we": busy, "wb_adr": adr,
-               "wb_dat_w": data, "wb_sel": 0xF if busy else 0}
-        valid = int(not rst and current is None and not ops and q < len(beats))
+        bus = master.inputs(deque() if rst else ops)     # a reset would drop a write
+        valid = int(not rst and not master.busy() and not ops and q < len(beats))
         core = model.core
         if first_start is None and q >= 1 and core.phase == 0 and core.sub == 0 and core.full:
             first_start = cycle                      # this start takes beats[0]
@@ -421,8 +456,7 @@ def firmware_stimulus(method: Method, dead: int, beats: np.ndarray, inputs, outp
         command["h"][cycle], command["update"][cycle] = now["h"], now["update"]
         if valid and out["ref_ready"]:
             q += 1
-        if busy and out["wb_ack"]:
-            current = None
+        master.observe(bus, out)
         values = {"rst": rst, "ref_valid": valid, "ref_payload": payloads[index],
                   "fault_in": 0, "sync_in": 0, **bus}
         for port in stim:
@@ -439,8 +473,8 @@ MEASURES = ("events", "turn_ons", "swallowed", "thd_i", "thd_band", "v1", "blank
 def rtl_point(bench: DumpBench, method: Method, dead: int, cfg: Setting) -> dict:
     """One mode at one dead time (clocks) through the top: simulate (every output of every
     clock against ``TopModel``), cut the pins to the window, and measure them next to the
-    model's gates (per-update model -> clocks -> :func:`dead_time_gates`) and the ideal
-    command (no dead time). See the module docstring."""
+    model's gates (per-update model -> clocks -> :func:`driver_gates`) and the ideal command
+    (no dead time). See the module docstring."""
     contract = Contract(PHASES, WIDTH)
     k, lead = cfg.samples, cfg.lead
     beats = reference_codes(contract, FC, cfg.f0, cfg.amp, (lead + k + 2) / FC,
@@ -457,23 +491,17 @@ def rtl_point(bench: DumpBench, method: Method, dead: int, cfg: Setting) -> dict
     v0 = int(updates[updates > first_start][0])      # the update using beats[0] is presented
     start, stop = lead * CLOCKS, (lead + k) * CLOCKS   # the window, in clocks from v0
     command_identical = bool((command["h"][v0:v0 + stop] == h_clock).all())
-    cmd = PWave.from_samples(h_clock, 1.0, PHASES)
-    model = dead_time_gates(cmd, float(dead)).window(start, stop)
-    ideal = dead_time_gates(cmd, 0.0).window(start, stop)
-    # the pins follow the command one clock later (the driver's registers)
+    # the pins follow the command one clock later (the driver's registers), as driver_gates'
     pins = slice(v0 + 1 + start, v0 + 1 + stop)
     up, lo = got["upper"][pins], got["lower"][pins]
-    model_up, model_lo = model.per_clock(stop - start)
+    model_up, model_lo = (g[start:stop] for g in driver_gates(h_clock, dead))
     pins_identical = (len(up) == stop - start and bool((up == model_up).all())
                       and bool((lo == model_lo).all()))
-
-    def seconds(w: GateWave) -> GateWave:
-        return GateWave(w.t / F_CLK, w.g)
-
+    h = h_clock[start:stop]
     args = (cfg.f0, cfg.tau, cfg.f_band)
     rtl = measure_gates(GateWave.from_pins(up, lo, PHASES, F_CLK), *args)
-    mod = measure_gates(seconds(model), *args)
-    ide = measure_gates(seconds(ideal), *args)
+    mod = measure_gates(GateWave.from_pins(model_up, model_lo, PHASES, F_CLK), *args)
+    ide = measure_gates(GateWave.from_pins(h, ~h & ((1 << PHASES) - 1), PHASES, F_CLK), *args)
     agree = all(math.isclose(rtl[key], mod[key], rel_tol=1e-9, abs_tol=1e-12)
                 for key in MEASURES)
     row = {"method": method.label, "mode": method.mode, "bits": method.bits,
@@ -694,11 +722,12 @@ def markdown(rows: list[dict], records: list[dict], cfg: Setting, argv: list, se
         "sign at the start of each blanking interval decides the pole voltage for the whole "
         "interval. A current crossing zero inside an interval is not followed (the "
         "discontinuous-current case): the tables count those intervals.",
-        "- **Dead time.** The transform from commanded to gate states is written from the "
-        "driver's documented contract (docs/top.md, \"Gate driver\", `MIN_PULSE` 0), not from "
-        "the RTL: at a command edge both switches turn off for the dead time; then the switch "
-        "the command names at that moment turns on (a pulse no longer than the dead time is "
-        "swallowed and the switch that was on comes back).",
+        "- **Dead time.** The golden model's gate driver (`mdfqm_model.driver.GateDriverModel`, "
+        "`MIN_PULSE` 0) makes the gates of a command: at a command edge both switches turn off "
+        "for the dead time; then the switch the command names at that moment turns on (a pulse "
+        "no longer than the dead time is swallowed and the switch that was on comes back). "
+        "Part (b), in continuous time, applies the same rules (`dead_time_gates`, checked "
+        "against that model on clock-aligned edges by `tools/tests/test_pins_report.py`).",
         "- A *switching event* is one change of a leg's pole voltage (the commutations that cost "
         "switching loss); *gate turn-ons* count turn-ons of either switch at the pins (what the "
         "top's `EVENTS` counters count). Both per second, all three legs.",
@@ -708,13 +737,15 @@ def markdown(rows: list[dict], records: list[dict], cfg: Setting, argv: list, se
         f"`MdfqmTop(3, 16, max_bits={MAX_BITS}, dead_min={MIN_DEAD_CLOCKS})` simulated with "
         "Verilator (vector-file path: the pins dumped every clock, every output compared every "
         "clock with `TopModel`). Per run: reset, then Wishbone writes as firmware would make "
-        "them, `PERIOD` (clocks per update), `OSR`, `DEAD`, `MIN_PULSE` = 0, `MODULATION` "
-        "(mode, b), `CTRL` = `ENABLE` (+ `ZERO_POLICY`), then the reference streamed on the "
+        "them (the tests' master, `mdfqm_testkit.top_bench.WishboneMaster`), `PERIOD` (clocks "
+        "per update), `OSR`, `DEAD`, `MIN_PULSE` = 0, `MODULATION` (mode, b), `CTRL` = "
+        "`ENABLE` (+ `ZERO_POLICY`), then the reference streamed on the "
         f"`ref` port. Window: {cfg.rtl_periods} reference period(s) ({cfg.samples} samples) "
         f"after a lead-in of {cfg.lead} samples, from the presentation of the update that used "
         "the first window sample (the pins one clock later). The model's gates: the per-update "
-        "model (`modulate_bbit`) on the same samples, expanded to clocks, through the dead-time "
-        "transform; they must equal the pins clock for clock, and every measure must agree.",
+        "model (`modulate_bbit`) on the same samples, expanded to clocks, through the model's "
+        "gate driver (`GateDriverModel`); they must equal the pins clock for clock, and every "
+        "measure must agree.",
         "",
         f"Result: {'every RTL point equals the model' if ok else '**RTL AND MODEL DISAGREE**'}"
         f" ({sum(r['ok'] for r in rows)} of {len(rows)} points).",
@@ -900,9 +931,7 @@ def make_plots(rows: list[dict], records: list[dict], cfg: Setting, out: Path) -
     files = []
 
     def save(fig, name):
-        fig.tight_layout()
-        fig.savefig(out / name, dpi=72)
-        plt.close(fig)
+        save_figure(fig, out / name)
         files.append(name)
 
     real = [r for r in rows if r["dead_clocks"] == DEAD_CLOCKS]

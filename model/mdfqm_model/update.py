@@ -39,11 +39,9 @@ from mdfqm_spec.contract import (
 
 __all__ = [
     "UpdateResult",
-    "bits_of",
     "candidates",
     "decode",
     "feedback",
-    "mask_of",
     "mdfqm_update",
     "modulate",
     "modulate_batch",
@@ -67,27 +65,13 @@ def _int_vector(values: Sequence[int], n: int, name: str) -> list[int]:
 
 
 # --------------------------------------------------------------------------------------------
-# bit-mask helpers
+# bit-mask helper
 # --------------------------------------------------------------------------------------------
 
 
 def popcount(h: int) -> int:
     """Number of legs on in the bitmask ``h``."""
     return bin(h).count("1")
-
-
-def bits_of(h: int, phases: int) -> list[int]:
-    """``[h_0, .., h_{N-1}]`` (0/1) of the bitmask ``h``."""
-    return [(h >> i) & 1 for i in range(phases)]
-
-
-def mask_of(bits: Sequence[int]) -> int:
-    """Bitmask of a 0/1 sequence (entry ``i`` -> bit ``i``)."""
-    h = 0
-    for i, b in enumerate(bits):
-        if b:
-            h |= 1 << i
-    return h
 
 
 # --------------------------------------------------------------------------------------------

@@ -36,7 +36,7 @@ def restoring_quotient(vc, divisor, steps):
     return (top << steps) | q
 
 
-def hardware_q(t, mode, b, big, c):
+def hardware_q(t, mode, b, bmax, c):
     """Per-leg slot counts q_i the way the gateware computes them (telescoped instants, clamp,
     (B+1)-bit quotient by the constant 2 NF, the last B - b bits dropped)."""
     nf = c.unit
@@ -46,16 +46,16 @@ def hardware_q(t, mode, b, big, c):
     for ti in t:
         v = g2 * nf + (2 - g2) * hi + g2 * lo - 2 * ti + (nf >> b)
         vc = min(max(v, 0), 2 * nf)
-        big_q = restoring_quotient(vc, 2 * nf, big)
-        assert big_q == vc * (1 << big) // (2 * nf)
-        out.append(big_q >> (big - b))
+        bmax_q = restoring_quotient(vc, 2 * nf, bmax)
+        assert bmax_q == vc * (1 << bmax) // (2 * nf)
+        out.append(bmax_q >> (bmax - b))
     return out, g2
 
 
 @pytest.mark.parametrize("n", [3, 4, 5, 7])
 def test_per_leg_instants_equal_the_cumulative_duties(n, rng):
     c = Contract(n, 16)
-    big = 8
+    bmax = 8
     for _ in range(400):
         scale = rng.choice([0.3, 1.0, 2.5])  # inside, at and far outside the linear range
         t = rng.integers(-int(scale * c.unit), int(scale * c.unit), size=n)
@@ -63,13 +63,13 @@ def test_per_leg_instants_equal_the_cumulative_duties(n, rng):
         t = [int(v) for v in t]
         rho, perm = sort1(t)
         for mode in GAMMA_MODES:
-            b = int(rng.integers(1, big + 1))
+            b = int(rng.integers(1, bmax + 1))
             g2 = gamma2_for(mode, rho)
             q = quantised_instants(rho, g2, 1 << b, c)
             model_q = [0] * n
             for p in range(n):
                 model_q[perm[p]] = q[p + 1]
-            hw_q, hw_g2 = hardware_q(t, mode, b, big, c)
+            hw_q, hw_g2 = hardware_q(t, mode, b, bmax, c)
             assert hw_g2 == g2
             assert hw_q == model_q, (t, mode, b)
 
@@ -77,16 +77,16 @@ def test_per_leg_instants_equal_the_cumulative_duties(n, rng):
 @pytest.mark.parametrize("mode", GAMMA_MODES)
 def test_feedback_in_units_of_full_over_2_to_the_b(mode, rng):
     """U_i = (FULL / 2**B) (sum m - N m_i), m_i = q_i 2**(B - b): bbit's mean feedback."""
-    n, big = 5, 8
+    n, bmax = 5, 8
     c = Contract(n, 16)
     for _ in range(100):
-        b = int(rng.integers(1, big + 1))
+        b = int(rng.integers(1, bmax + 1))
         codes = rng.integers(-c.full, c.full, size=n)
         r = remove_common_mode(codes, n)
         res = bbit_update([0] * n, r, c, mode, b)
-        q, _ = hardware_q(list(res.t), mode, b, big, c)
-        m = [qi << (big - b) for qi in q]
-        u = [(c.full >> big) * (sum(m) - n * mi) for mi in m]
+        q, _ = hardware_q(list(res.t), mode, b, bmax, c)
+        m = [qi << (bmax - b) for qi in q]
+        u = [(c.full >> bmax) * (sum(m) - n * mi) for mi in m]
         if not res.saturated:
             assert tuple(ti - ui for ti, ui in zip(res.t, u, strict=True)) == res.x_next
         assert [(1 << b) - qi for qi in q] == list(res.on_slots)
@@ -97,8 +97,8 @@ def test_layout_bounds_first_and_last_slot(b, rng):
     """Leg i is on in slots floor(q/2) <= j < S - ceil(q/2); the first slot holds the legs with
     floor(q/2) == 0, the last the legs with q == 0 (the zero policy's h_prev)."""
     s = 1 << b
-    big = 8
-    delta = 1 << (big - b)
+    bmax = 8
+    delta = 1 << (bmax - b)
     for q in range(s + 1):  # legs are laid out independently: one leg at a time
         slots = centred_slots([s - q], s)
         lo, hi = q // 2, s - (q + 1) // 2
@@ -106,7 +106,7 @@ def test_layout_bounds_first_and_last_slot(b, rng):
         # the scaled bounds the gateware registers, m = q 2**(B - b)
         m = q * delta
         lo_s = (m >> 1) & ~(delta - 1)
-        assert lo_s == lo * delta and lo_s + (1 << big) - m == hi * delta
+        assert lo_s == lo * delta and lo_s + (1 << bmax) - m == hi * delta
     triples = itertools.product(range(s + 1), repeat=3) if b <= 3 else (
         tuple(int(v) for v in rng.integers(0, s + 1, size=3)) for _ in range(3000))
     for qs in triples:
@@ -116,29 +116,29 @@ def test_layout_bounds_first_and_last_slot(b, rng):
 
 
 def test_latch_mode_every_code():
-    big = 6
+    bmax = 6
     for mode, bits in itertools.product(range(8), range(16)):
-        got = latch_mode(mode, bits, big)
+        got = latch_mode(mode, bits, bmax)
         if mode >= len(MODES):
             assert got == (0, 0, True)
         elif mode == 0:
             assert got == (0, 0, False)
         else:
-            b = min(max(bits, 1), big)
+            b = min(max(bits, 1), bmax)
             assert got == (mode, b, b != bits)
-            assert (not got[2]) == (1 <= bits <= big)
+            assert (not got[2]) == (1 <= bits <= bmax)
     with pytest.raises(ValueError, match="mode must be a 3-bit and bits a 4-bit code"):
-        latch_mode(8, 0, big)
+        latch_mode(8, 0, bmax)
     with pytest.raises(ValueError, match="mode must be a 3-bit and bits a 4-bit code"):
-        latch_mode(1, 16, big)
+        latch_mode(1, 16, bmax)
 
 
 def test_latencies_and_minimum_periods():
     assert resolution_latency(3, 8) == 20
     assert resolution_latency(5, 6) == 7 + len(sorting_network(5)) + 3 + 6 == 21
     for n in (3, 4, 5, 9):
-        for big in (1, 8, 12):
-            assert resolution_latency(n, big) > loop_latency(n)
+        for bmax in (1, 8, 12):
+            assert resolution_latency(n, bmax) > loop_latency(n)
     lat, long = loop_latency(3), resolution_latency(3, 8)
     assert min_period(False, 0, lat, long) == 8
     assert min_period(True, 0, lat, long) == 20

@@ -123,15 +123,15 @@ class GatingSignalGenerator(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        n, big = self.phases, self.max_bits
+        n, bmax = self.phases, self.max_bits
         m.submodules.sequencer = sequencer = UpdateSequencer(
-            self.latency, long_latency=self.long_latency, max_bits=big)
+            self.latency, long_latency=self.long_latency, max_bits=bmax)
         h_last = Signal(n)          # last state of the last presented update (zero policy)
-        loop = build_loop(m, self, sequencer, self.width - 2 - big, h_prev=h_last)
+        loop = build_loop(m, self, sequencer, self.width - 2 - bmax, h_prev=h_last)
         integrator, sort1, candidates = loop.integrator, loop.sort1, loop.candidates
         sort2, decoder = loop.sort2, loop.decoder
-        m.submodules.quantiser = quantiser = Quantiser(n, self.width, big)
-        m.submodules.layout = layout = SlotLayout(n, big, len(self.period))
+        m.submodules.quantiser = quantiser = Quantiser(n, self.width, bmax)
+        m.submodules.layout = layout = SlotLayout(n, bmax, len(self.period))
         assert 2 + sort1.latency + quantiser.latency == self.long_latency
         assert 2 + sort1.latency + candidates.latency + sort2.latency + decoder.latency \
             == self.latency
@@ -153,7 +153,7 @@ class GatingSignalGenerator(wiring.Component):
             quantiser.i_bits.eq(sequencer.bits_lat),
             integrator.i_commit.eq(commit),
             [integrator.i_units[i].eq(Mux(bbit, quantiser.o_units[i],
-                                          decoder.o_units[i] * (1 << big)))
+                                          decoder.o_units[i] * (1 << bmax)))
              for i in range(n)],
             layout.i_load.eq(commit),
             layout.i_bbit.eq(bbit),

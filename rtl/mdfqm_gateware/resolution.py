@@ -159,11 +159,11 @@ class Quantiser(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        n, c, big = self.phases, self.contract, self.max_bits
+        n, c, bmax = self.phases, self.contract, self.max_bits
         nf = c.unit
         div = 2 * nf
         tree = ceil_log2(n)
-        b_range = range(big + 1)
+        b_range = range(bmax + 1)
 
         # ---- per-update constants of b (registered lookups; b is still through the update)
         wide = signed(c.t_width + 3)
@@ -171,13 +171,13 @@ class Quantiser(wiring.Component):
                  for g in range(3)]
         km_tab = [_table(m, [g * nf + (nf >> b) - div for b in b_range], self.i_bits, wide,
                          f"km{g}") for g in range(3)]
-        lo_mask = _table(m, [((1 << (big + 1)) - 1) & ~((1 << (big - b)) - 1) for b in b_range],
-                         self.i_bits, unsigned(big + 1), "lo_mask")
+        lo_mask = _table(m, [((1 << (bmax + 1)) - 1) & ~((1 << (bmax - b)) - 1) for b in b_range],
+                         self.i_bits, unsigned(bmax + 1), "lo_mask")
         m.d.sync += [
             self.o_slots.eq(_lookup([(1 << b) - 1 for b in b_range], self.i_bits,
-                                    unsigned(big))),
-            self.o_delta.eq(_lookup([1 << (big - b) for b in b_range], self.i_bits,
-                                    unsigned(big + 1))),
+                                    unsigned(bmax))),
+            self.o_delta.eq(_lookup([1 << (bmax - b) for b in b_range], self.i_bits,
+                                    unsigned(bmax + 1))),
         ]
 
         # ---- stage 1: the sector sum, and the dpwm offsets (one adder each, in parallel)
@@ -212,13 +212,13 @@ class Quantiser(wiring.Component):
         load = valid[3]
         # every decision boundary j 2 NF / 2**b (b <= B) is a multiple of 2**low, so no quotient
         # depends on the low bits of V: the divider works on V >> low by 2 NF >> low
-        low = ((div & -div).bit_length() - 1) - big
+        low = ((div & -div).bit_length() - 1) - bmax
         div_low = div >> low
         rem_shape = unsigned(div_low.bit_length())
-        run = Signal(range(big + 1))
-        want = Signal(range(big + 1))
+        run = Signal(range(bmax + 1))
+        want = Signal(range(bmax + 1))
         with m.If(load):
-            m.d.sync += [run.eq(big), want.eq(self.i_bits)]
+            m.d.sync += [run.eq(bmax), want.eq(self.i_bits)]
         with m.Elif(run != 0):
             m.d.sync += [run.eq(run - 1), want.eq(Mux(want != 0, want - 1, 0))]
         quotients = []
@@ -229,7 +229,7 @@ class Quantiser(wiring.Component):
             m.d.sync += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
             top = Signal(name=f"top{i}")
             rem = Signal(rem_shape, name=f"rem{i}")
-            q = Signal(big, name=f"q{i}")
+            q = Signal(bmax, name=f"q{i}")
             # ---- stage 5: B restoring steps, 2 rem - 2NF, one carry chain a clock
             trial = Signal(signed(rem_shape.width + 2), name=f"trial{i}")
             m.d.comb += trial.eq((rem << 1) - div_low)
@@ -243,25 +243,25 @@ class Quantiser(wiring.Component):
                 # the B shifts push out every bit q held before the load
                 m.d.sync += [
                     rem.eq(Mux(fits, trial, rem << 1)),
-                    q.eq(Cat(fits & (want != 0), q[:-1]) if big > 1 else fits & (want != 0)),
+                    q.eq(Cat(fits & (want != 0), q[:-1]) if bmax > 1 else fits & (want != 0)),
                 ]
             quotients.append(Cat(q, top))
 
         # ---- stage 6: sums over the legs, layout bounds
-        count = unsigned((n << big).bit_length())
+        count = unsigned((n << bmax).bit_length())
         total = _sum_tree(m, quotients, tree, count, "sum")
         times_n = []
         for i in range(n):
             terms = [quotients[i] << k for k in range(n.bit_length()) if (n >> k) & 1]
             times_n.append(_sum_tree(m, terms, tree, count, f"n_times_m{i}"))
         for i in range(n):
-            lo = Signal(unsigned(big + 1), name=f"lo{i}")
-            on = Signal(unsigned(big + 1), name=f"on{i}")
-            hi = Signal(unsigned(big + 1), name=f"hi{i}")
+            lo = Signal(unsigned(bmax + 1), name=f"lo{i}")
+            on = Signal(unsigned(bmax + 1), name=f"on{i}")
+            hi = Signal(unsigned(bmax + 1), name=f"hi{i}")
             last = Signal(name=f"last{i}")
             m.d.sync += [
                 lo.eq((quotients[i] >> 1) & lo_mask),
-                on.eq((1 << big) - quotients[i]),
+                on.eq((1 << bmax) - quotients[i]),
                 hi.eq(lo + on),
                 last.eq(quotients[i] == 0),
             ]
@@ -338,17 +338,17 @@ class SlotLayout(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        n, big = self.phases, self.max_bits
-        lo = [Signal(big + 1, name=f"lo{i}") for i in range(n)]
-        hi = [Signal(big + 1, name=f"hi{i}") for i in range(n)]
+        n, bmax = self.phases, self.max_bits
+        lo = [Signal(bmax + 1, name=f"lo{i}") for i in range(n)]
+        hi = [Signal(bmax + 1, name=f"hi{i}") for i in range(n)]
         # the leg toggles at the next slot boundary are registers, compared one slot ahead
         # against the index of the slot after it (so a 1-clock slot needs no compare in front
         # of the gates)
         turn_on = [Signal(name=f"turn_on{i}") for i in range(n)]
         turn_off = [Signal(name=f"turn_off{i}") for i in range(n)]
-        after = Signal(big + 2)          # scaled index of the slot after the next one
-        delta = Signal(big + 1)
-        left = Signal(big)               # slots still to begin
+        after = Signal(bmax + 2)         # scaled index of the slot after the next one
+        delta = Signal(bmax + 1)
+        left = Signal(bmax)              # slots still to begin
         more = Signal()                  # left != 0
         count = Signal(signed(self.period_width + 1))   # clocks left in this slot, minus two
         slot_m2 = Signal(signed(self.period_width + 1))

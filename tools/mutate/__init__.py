@@ -12,14 +12,20 @@ then runs, stopping at the first failure (:mod:`.stages`):
 2. the block's cocotb tests, then its SymbiYosys proof with the mutation applied to the proof's
    own netlist;
 3. for a survivor, an equivalence check of the mutant against the original (a longer
-   simulation; the block's proof with an assertion that the mutated bit never differs; Yosys
-   ``equiv`` by induction; a bounded miter): *equivalent*, *not equivalent* (a hole in the
-   tests) or *undecided*.
+   simulation; the block's proof with a probe, an assertion that what the mutation changes
+   never differs; a reading's proof from the registry; Yosys ``equiv`` by induction; a bounded
+   miter): *equivalent*, *not equivalent* (a hole in the tests) or *undecided*.
+
+Only a failure that shows the mutant wrong kills it (a vector mismatch, a failing cocotb test,
+a counterexample from reset); a proof whose induction no longer closes, or a run out of time,
+decides nothing and the mutant goes on (:mod:`.stages`).
 
 Results go to a database per block (``build/mutate/<block>/results.json``, keyed by mutation
-keys that name the source line and the kind of mutation, not netlist cells), which a later run
-resumes from (:mod:`.campaign`); :mod:`.report` writes ``reports/MUTATION.md``;
-:mod:`.sample` draws the fixed sample ``make test`` runs (tb/test_mutation_sample.py).
+keys that name the source text and the kind of mutation, not netlist cells nor lines:
+:mod:`.keys`), which a later run resumes from (:mod:`.campaign`); :mod:`.report` writes
+``reports/MUTATION.md``. The one registry of named mutants, :mod:`.registry`, holds the fixed
+sample ``make test`` runs (tb/test_mutation_sample.py; drawn by :mod:`.sample`, which also
+writes docs/robustness.md's mutant column from it) and the readings of the survivors.
 
     python -m tools.mutate                                  # the campaign (make mutate)
     python -m tools.mutate --block driver --only '<key>'    # one mutant, every stage

@@ -15,7 +15,8 @@ import random
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-__all__ = ["BLOCKS", "DRIVER", "DRIVER_SCENARIOS", "Block", "CocotbTest", "Run"]
+__all__ = ["BLOCKS", "DRIVER", "DRIVER_SCENARIOS", "Block", "CocotbTest", "Run", "core_runs",
+           "driver_runs", "generator_runs", "top_runs"]
 
 #: one vector run: (name, inputs by port, expected outputs by port)
 Run = tuple[str, dict, dict]
@@ -52,7 +53,7 @@ class Block:
     exclude: tuple[str, ...] = ()
 
 
-def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
+def core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
     from mdfqm_spec.contract import Contract
     from mdfqm_testkit.core_stimulus import SCENARIOS, generate
 
@@ -65,7 +66,7 @@ def _core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
     return runs
 
 
-def _generator_runs(seed: int, cycles: int = 20_000) -> list[Run]:
+def generator_runs(seed: int, cycles: int = 20_000) -> list[Run]:
     from mdfqm_spec.contract import Contract
     from mdfqm_testkit.bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate
 
@@ -94,7 +95,7 @@ DRIVER_SCENARIOS = (("random", 12000), ("fault_chatter", 4000), ("fault_in_dead_
                     ("fault_reaction", 8000))
 
 
-def _driver_runs(seed: int) -> list[Run]:
+def driver_runs(seed: int) -> list[Run]:
     """The cocotb driver test's scenarios (tb/test_driver.py) as one vector run, each led by
     the two reset clocks ``harness.start`` gives it (the driver keeps its dead time in force
     and the fault synchroniser through a reset, so the scenarios follow one another in one
@@ -126,7 +127,7 @@ def _driver_runs(seed: int) -> list[Run]:
     return [("scenarios", stim, expected)]
 
 
-def _top_runs(bus: str, runs: tuple[int, ...]):
+def top_runs(bus: str, runs: tuple[int, ...]):
     def make(seed: int) -> list[Run]:
         from mdfqm_gateware.top import MdfqmTop
         from mdfqm_testkit.top_stimulus import top_stimulus
@@ -167,12 +168,12 @@ def _blocks() -> dict[str, Block]:
     core_params = {"phases": 3, "width": 16, "rule": "largest_duty"}
     blocks = [
         Block("core", "core (MdfqmCore, N=3, 16 bits)", "mdfqm_core",
-              lambda formal: MdfqmCore(3, 16, formal=formal), _core_runs,
+              lambda formal: MdfqmCore(3, 16, formal=formal), core_runs,
               (CocotbTest("test_core", "mdfqm_core", core_params),), depth),
         Block("generator", "generator (GatingSignalGenerator, N=3, 16 bits, b<=8)",
               "gating_signal_generator",
               lambda formal: GatingSignalGenerator(3, 16, max_bits=8, formal=formal),
-              _generator_runs,
+              generator_runs,
               (CocotbTest("test_bbit", "gating_signal_generator", {**core_params,
                                                                    "max_bits": 8}),), depth),
         Block("driver", "gate driver (GateDriver, 3 legs, dead_min 5, upper active low)",
@@ -180,16 +181,16 @@ def _blocks() -> dict[str, Block]:
               lambda formal: GateDriver(d["phases"], d["dead_min"], d["time_width"],
                                         d["upper_active_low"], d["lower_active_low"],
                                         asc=d["asc"], formal=formal),
-              _driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
+              driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
         Block("top_wb", "top, Wishbone (MdfqmTop, the drop-in mdfqm_top_n3_w16)", "mdfqm_top",
               lambda formal: MdfqmTop(3, 16, formal=formal),
-              _top_runs("wishbone", (150_000, 60_000)), _top_tests("wishbone"), depth),
+              top_runs("wishbone", (150_000, 60_000)), _top_tests("wishbone"), depth),
         # the AXI4-Lite top's own logic: its front, the register file, counters, watchdog; the
         # core and the driver inside are the Wishbone top's netlist, measured there
         Block("top_axi", "top, AXI4-Lite (MdfqmTop bus=axi4lite, mdfqm_top_axil_n3_w16; "
               "its front and top-level logic)",
               "mdfqm_top", lambda formal: MdfqmTop(3, 16, bus="axi4lite", formal=formal),
-              _top_runs("axi4lite", (50_000,)), _top_tests("axi4lite"), depth,
+              top_runs("axi4lite", (50_000,)), _top_tests("axi4lite"), depth,
               exclude=("core", "driver")),
     ]
     return {b.name: b for b in blocks}

@@ -13,6 +13,7 @@ import concurrent.futures
 import contextlib
 import hashlib
 import json
+import multiprocessing
 import os
 import random
 import signal
@@ -27,11 +28,15 @@ from .netlist import (
     BlockNetlist,
     Mutation,
     mutsel_width,
+    worth_a_probe,
     wrapper,
     write_formal_mutant,
     write_invariant_probe,
 )
+from .registry import Proof, reading
 from .stages import (
+    KILLED,
+    UNDECIDED,
     MutantBench,
     cocotb_build,
     mutated_bits,
@@ -39,12 +44,14 @@ from .stages import (
     run_equivalence,
     run_formal,
     run_invariant,
+    run_reading,
     run_vectors,
 )
 
 __all__ = [
-    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "STAGES", "STIMULUS_SOURCES", "BlockCampaign",
-    "Settings", "counts", "evaluate", "kept_records", "run", "stimulus_hash", "summary_line",
+    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "PROVEN_BY", "STAGES", "STIMULUS_SOURCES",
+    "BlockCampaign", "Settings", "check_reading", "counts", "evaluate", "kept_records", "run",
+    "stimulus_hash", "summary_line",
 ]
 
 BUILD = ROOT / "build" / "mutate"
@@ -177,6 +184,9 @@ class BlockCampaign:
     def save(self, started: float) -> None:
         db = {"block": self.block.name, "title": self.block.title, "design": self.design_hash,
               "seed": self.settings.seed, "jobs": self.settings.jobs,
+              # the day the results were last added to, for the report (which may be written
+              # later from the databases alone)
+              "date": time.strftime("%Y-%m-%d"),
               "count": len(self.mutations),
               "stages": list(self.settings.stages),
               "seconds": round(time.time() - started + self._seconds_before, 1),
@@ -278,11 +288,14 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
     directory = Path(context["directory"])
     stages = context["stages"]
     started = time.monotonic()
-    record = {"mutant": mutant, "stages": stages, "log": []}
+    #: ``undecided``: the stages that ran without a verdict (a proof whose induction no longer
+    #: closes, a run out of time): not kills, the mutant went on
+    record = {"mutant": mutant, "stages": stages, "log": [], "undecided": []}
     if previous is not None:
         record["log"] = [line for line in previous.get("log", [])
                          if not line.startswith(("equivalence:", "deeper simulation:",
-                                                 "invariant:"))]
+                                                 "invariant:", "reading:"))]
+        record["undecided"] = list(previous.get("undecided", []))
         stages = [s for s in stages if s == "equivalence"]
 
     def done(status, stage, detail):
@@ -305,6 +318,8 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
             record["log"].append(f"cocotb: {result['detail']}")
             if result["killed"]:
                 return done("killed", "cocotb", result["detail"])
+            if result["undecided"]:
+                record["undecided"].append("cocotb")
     as_mutation = Mutation(**{**mutation, "src": tuple(mutation["src"])}) if mutant else None
     # a flop moved to the other clock edge is outside the formal model (one edge per step;
     # SymbiYosys's prep refuses it, and Yosys's equiv passes prove a negedge flop equal to a
@@ -320,8 +335,10 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
         if mutant_il:
             mutant_il.unlink()
         record["log"].append(f"formal: {result['detail']}")
-        if result["killed"]:
+        if result["verdict"] == KILLED:
             return done("killed", "formal", result["detail"])
+        if result["verdict"] == UNDECIDED:
+            record["undecided"].append("formal")
     if "equivalence" in stages:
         # a longer simulation than the tests run (other seeds of the same stimulus): a
         # mismatch there shows a difference the tests miss
@@ -334,13 +351,22 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
         if other_edge:
             return done("undecided", "equivalence",
                         f"no difference in the longer simulation; {OTHER_EDGE}")
-        if mutant and block.formal_depth is not None and mutation["mode"] != "inv":
+        if mutant and block.formal_depth is not None and worth_a_probe(directory, as_mutation):
             probe = write_invariant_probe(directory, as_mutation, f"probe-{mutant}")
             result = run_invariant(block.build(True), f"probe_{block.name}_{mutant}",
                                    block.formal_depth, probe)
             probe.unlink()
             record["log"].append(f"invariant: {result['detail']}")
             if result["verdict"] == "equivalent":
+                record["by"] = "invariant"
+                return done("equivalent", "equivalence", result["detail"])
+        read = reading(mutation["key"]) if mutant else None
+        if read is not None and read.proof is not None and block.formal_depth is not None:
+            # a reading counts only through its proof: the prose is no verdict
+            result = check_reading(block, directory, as_mutation, read.proof, mutant)
+            record["log"].append(f"reading: {result['detail']}")
+            if result["verdict"] == "equivalent":
+                record["by"] = "reading"
                 return done("equivalent", "equivalence", result["detail"])
         result = run_equivalence(directory, directory / "mutants.il", context["module"],
                                  context["ports"], context["width"], mutant,
@@ -350,8 +376,28 @@ def evaluate(context: dict, mutant: int, mutation: dict, previous: dict | None =
         record["log"].append(f"equivalence: {result['detail']}")
         status = {"equivalent": "equivalent", "not equivalent": "survived",
                   "undecided": "undecided"}[result["verdict"]]
+        if status == "equivalent":
+            record["by"] = "equiv"
         return done(status, "equivalence", result["detail"])
     return done("survived", "", "survived every stage run (no equivalence check)")
+
+
+def check_reading(block: Block, directory: Path, mutation: Mutation, proof: Proof,
+                  mutant: int) -> dict:
+    """A reading's :class:`registry.Proof` on one mutant: its lemmas and the mutation's probe
+    in the block's proof (:func:`stages.run_reading`). A proof that cannot be built (a lemma
+    naming a wire the netlist lacks, a lemma Yosys cannot read) backs nothing: undecided, and
+    said so."""
+    try:
+        probe = write_invariant_probe(directory, mutation, f"reading-{mutant}", proof.asserts)
+    except RuntimeError as error:
+        return {"verdict": "undecided",
+                "detail": f"the reading's proof could not be built: {str(error)[:300]}"}
+    try:
+        return run_reading(block.build(True), f"reading_{block.name}_{mutant}",
+                           proof.depth or block.formal_depth, probe, len(proof.asserts))
+    finally:
+        probe.unlink()
 
 
 def _interrupted(signum, frame):
@@ -365,8 +411,9 @@ def _stopping(pool):
     try:
         yield
     except KeyboardInterrupt:
-        processes = list(getattr(pool, "_processes", {}).values())
-        for process in processes:
+        # the pool's workers are this process's children (multiprocessing's public view of
+        # them, not the pool's private table)
+        for process in multiprocessing.active_children():
             for child in _children(process.pid):
                 with contextlib.suppress(ProcessLookupError):
                     os.kill(child, signal.SIGTERM)
@@ -393,14 +440,25 @@ def _children(pid: int) -> list[int]:
     return found
 
 
+#: how an equivalent mutant was proven (a record's ``by``): the invariant probe, a reading's
+#: proof, Yosys ``equiv``
+PROVEN_BY = ("invariant", "reading", "equiv")
+
+
 def counts(results: dict) -> dict:
-    """Tally of a block's results."""
+    """Tally of a block's results: the statuses, the kills by stage, the equivalent mutants by
+    proof (:data:`PROVEN_BY`), and ``went_on``: mutants a stage could not decide (a proof whose
+    induction no longer closes, a run out of time), counted by what the later stages found."""
     tally = {"tried": len(results), "killed": 0, "vector": 0, "cocotb": 0, "formal": 0,
-             "equivalent": 0, "undecided": 0, "survived": 0}
+             "equivalent": 0, "undecided": 0, "survived": 0, "went_on": 0,
+             **{by: 0 for by in PROVEN_BY}}
     for r in results.values():
         tally[r["status"]] += 1
         if r["status"] == "killed":
             tally[r["stage"]] += 1
+        if r["status"] == "equivalent":
+            tally[r.get("by", "equiv")] += 1
+        tally["went_on"] += bool(r.get("undecided"))
     return tally
 
 

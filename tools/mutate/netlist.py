@@ -20,13 +20,14 @@ One block's flow (every file in its directory ``build/mutate/<block>/``):
    :func:`wrapper` around it (the block's own ports, ``mutsel`` from the plusarg
    ``+mutsel=<k>``), one simulator build per block runs every mutant.
 
-A mutation's *key* names it by source and kind, never by netlist cell name (those are renumbered
-whenever the design is rebuilt): the source locations of the cell (for a cell Yosys made
-without one, those of what it drives, marked ``~``), its hierarchy scope and type, its rank
-among the cells of that scope, type and source, the port and bit, the mode (``inv``,
-``const0``, ``const1``, ``cnot0``/``cnot1`` with the control bit)::
+A mutation's *key* names it by source text and kind, never by netlist cell name (those are
+renumbered whenever the design is rebuilt) nor by line number (lines move with every edit above
+them): the source units of the cell (:mod:`.keys`; for a cell Yosys made without a source, those
+of what it drives, marked ``~``), its hierarchy scope and type, its rank among the cells of that
+scope, type and source, the port and bit, the mode (``inv``, ``const0``, ``const1``,
+``cnot0``/``cnot1`` with the control bit)::
 
-    rtl/mdfqm_gateware/driver.py:117 leg0 $mux#0 Y[0] const0
+    rtl/mdfqm_gateware/driver.py@5b1e07c2 leg0 $mux#0 Y[0] const0
 """
 
 from __future__ import annotations
@@ -40,10 +41,13 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from .keys import REDRAW, Key, StaleKeyError, unit_at
+
 __all__ = [
-    "BlockNetlist", "CellIndex", "Mutation", "location", "mutsel_width", "normalize_inits",
-    "parse_list", "same_cells", "short_src", "split_cell", "switch_sources", "wrapper",
-    "write_formal_mutant", "write_invariant_probe", "yosys"
+    "BlockNetlist", "CellIndex", "Mutation", "compares_outputs", "mutsel_width",
+    "normalize_inits", "parse_list", "same_cells", "short_src", "source_unit", "split_cell",
+    "switch_sources", "where", "worth_a_probe", "wrapper", "write_formal_mutant",
+    "write_invariant_probe", "yosys"
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -135,6 +139,19 @@ def short_src(tag: str) -> str:
     return f"{path}:{line}"
 
 
+def source_unit(tag: str) -> str:
+    """A Yosys ``src`` tag (``/abs/file.py:line.col-line.col``) as a key's source,
+    ``file@digest`` (:mod:`.keys`): the file as :func:`short_src` writes it, the digest of the
+    source unit that holds the line. A file that cannot be read keeps its line (``file@L12``:
+    such a key resolves only while the line stays)."""
+    path, _, line = tag.rpartition(":")
+    number = int(line.split(".")[0])
+    file = short_src(tag).rpartition(":")[0]
+    if not Path(path).is_file():
+        return f"{file}@L{number}"
+    return f"{file}@{unit_at(path, number).digest}"
+
+
 def switch_sources(text: str) -> str:
     """``text`` (RTLIL) with each process's ``src`` attribute copied onto its ``switch``
     statements: Amaranth puts it on the process only, and the multiplexers ``proc`` makes of a
@@ -210,11 +227,6 @@ class Mutation:
                        "dut/w:$auto$mutate* %i dut/a:init %d")
         return out
 
-    @property
-    def location(self) -> str:
-        """The first source line of the key (where the report puts it)."""
-        return location(self.key)
-
     def as_dict(self) -> dict:
         return {"key": self.key, "cell": self.cell, "mode": self.mode, "port": self.port,
                 "bit": self.bit, "ctrlbit": self.ctrlbit, "wire": self.wire,
@@ -249,9 +261,9 @@ class CellIndex:
         self.cells: dict[str, dict] = {}
         groups = defaultdict(list)
         for name, cell in module["cells"].items():
-            src = cell.get("attributes", {}).get("src", "")
-            tags = tuple(sorted({short_src(t) for t in src.split("|") if t}))
-            if not tags:
+            raw = [t for t in cell.get("attributes", {}).get("src", "").split("|") if t]
+            mark = ""
+            if not raw:
                 # a cell Yosys made without a source (opt_expr's replacements): the source of
                 # what it drives, marked ``~``
                 driven = set()
@@ -259,10 +271,12 @@ class CellIndex:
                     if cell.get("port_directions", {}).get(port) == "output":
                         for bit in bits:
                             driven |= wire_src.get(bit, set())
-                tags = tuple(sorted({short_src(t) + "~" for t in driven}))
+                raw, mark = sorted(driven), "~"
+            tags = tuple(sorted({source_unit(t) + mark for t in raw}))
             scope, local = split_cell(name)
             self.cells[name] = {"type": cell["type"], "src": tags, "scope": scope,
-                                "local": local}
+                                "local": local,
+                                "lines": tuple(sorted({short_src(t) + mark for t in raw}))}
             groups[(scope, cell["type"], tags)].append(name)
         self.by_group = {}
         for group, names in groups.items():
@@ -273,27 +287,28 @@ class CellIndex:
 
     def key(self, cell: str, port: str, bit: int, mode: str, ctrlbit: int | None) -> str:
         info = self.cells[cell]
-        src = ",".join(info["src"]) or "nosrc"
-        scope = info["scope"] or "top"
-        kind = mode if ctrlbit is None else f"{mode}/{ctrlbit}"
-        return f"{src} {scope} {info['type']}#{info['rank']} {port}[{bit}] {kind}"
+        return str(Key(info["src"], info["scope"], info["type"], info["rank"], port, bit, mode,
+                       ctrlbit))
 
     def resolve(self, key: str) -> Mutation:
-        """The mutation a key names in this netlist (KeyError when it names none)."""
-        try:
-            src, scope, typed, portbit, kind = key.split(" ")
-            ctype, rank = typed.rsplit("#", 1)
-            port, bit = re.fullmatch(r"(\w+)\[(\d+)\]", portbit).groups()
-        except (ValueError, AttributeError) as error:
-            raise KeyError(f"not a mutation key: {key!r}") from error
-        tags = () if src == "nosrc" else tuple(sorted(src.split(",")))
-        names = self.by_group.get(("" if scope == "top" else scope, ctype, tags), [])
-        if int(rank) >= len(names):
-            raise KeyError(f"no cell for {key!r} in this netlist")
-        mode, _, ctrl = kind.partition("/")
-        return Mutation(key, names[int(rank)], mode, port, int(bit),
-                        int(ctrl) if ctrl else None, "", tags,
-                        self.init(names[int(rank)], port, int(bit)))
+        """The mutation a key names in this netlist. :class:`keys.StaleKeyError` (a KeyError)
+        when it names none, saying whether its source text is gone or its cell, and how to draw
+        the sample again."""
+        parsed = Key.parse(key)
+        names = self.by_group.get((parsed.scope, parsed.type, parsed.sources), [])
+        if parsed.rank >= len(names):
+            gone = [f"{file}@{wanted}" for (file, unit), wanted in zip(
+                parsed.where(ROOT), (s.rstrip("~").partition("@")[2] for s in parsed.sources),
+                strict=True) if unit is None]
+            why = (f"the source text it names is no longer in {', '.join(gone)} (edited since "
+                   "the key was drawn)" if gone else
+                   f"its source text is there, but not {parsed.rank + 1} {parsed.type} cell(s) "
+                   f"of scope {parsed.scope or 'top'} from it (the logic changed)")
+            raise StaleKeyError(f"mutation key {key!r} names no cell of this netlist: {why}; draw "
+                           f"the sample again with `{REDRAW}` (tools/mutate/registry.py)")
+        cell = names[parsed.rank]
+        return Mutation(key, cell, parsed.mode, parsed.port, parsed.bit, parsed.ctrlbit, "",
+                        self.cells[cell]["lines"], self.init(cell, parsed.port, parsed.bit))
 
     def init(self, cell: str, port: str, bit: int) -> str | None:
         """The init value (0 or 1) of a flip-flop's ``Q`` bit; None for any other port and for
@@ -334,9 +349,16 @@ def parse_list(lines: Iterable[str], index: CellIndex) -> list[Mutation]:
     return out
 
 
-def location(key: str) -> str:
-    """The first source line of a key (``~``: the source of what the cell drives)."""
-    return key.split(" ", 1)[0].split(",")[0].rstrip("~")
+def where(key: str) -> tuple[str, str]:
+    """``(file:line, text)`` of a key's first source as the file is now (its unit's first line
+    and its text as ``ast.unparse`` writes it); ``(file, "")`` when the text is gone."""
+    try:
+        parsed = Key.parse(key)
+    except StaleKeyError:
+        return key.split(" ", 1)[0], ""
+    for file, unit in parsed.where(ROOT):
+        return (f"{file}:{unit.first}", unit.text) if unit else (file, "")
+    return "nosrc", ""
 
 
 def mutsel_width(count: int) -> int:
@@ -430,54 +452,169 @@ def _mutated_base(directory: Path, commands: Sequence[str], name: str) -> Path:
 #: mutated one
 _CTRL_MUX = re.compile(r"  cell \$mux \$auto\$mutate\.cc:\d+:mutate_ctrl_mux\$\d+\n(.*?)\n  end\n",
                        re.S)
-#: the assertion :func:`write_invariant_probe` adds (``{original}``, ``{mutated}``: RTLIL bits)
-_PROBE_CELLS = """  wire $mutation_probe_same
-  cell $eq $mutation_probe_eq
+#: one assertion :func:`write_invariant_probe` adds (``{a}``, ``{b}``: RTLIL signals of
+#: ``{width}`` bits, ``{n}`` a number); the control of the mutation's multiplexer is tied off
+_PROBE_CHECK = """  wire $mutation_probe_same{n}
+  cell $eq $mutation_probe_eq{n}
     parameter \\A_SIGNED 0
     parameter \\B_SIGNED 0
-    parameter \\A_WIDTH 1
-    parameter \\B_WIDTH 1
+    parameter \\A_WIDTH {width}
+    parameter \\B_WIDTH {width}
     parameter \\Y_WIDTH 1
-    connect \\A {original}
-    connect \\B {mutated}
-    connect \\Y $mutation_probe_same
+    connect \\A {a}
+    connect \\B {b}
+    connect \\Y $mutation_probe_same{n}
   end
-  cell $check $mutation_probe_assert
+  cell $check $mutation_probe_assert{n}
     parameter \\TRG_WIDTH 0
     parameter \\TRG_POLARITY 0
     parameter \\TRG_ENABLE 0
     parameter signed \\PRIORITY 0
-    parameter \\FORMAT "the mutated bit differs from the original"
+    parameter \\FORMAT "{what}"
     parameter \\FLAVOR "assert"
     parameter \\ARGS_WIDTH 0
     connect \\TRG {{ }}
     connect \\EN 1'1
     connect \\ARGS {{ }}
-    connect \\A $mutation_probe_same
+    connect \\A $mutation_probe_same{n}
   end
-  connect \\mutation_probe 1'0
 """
 
 
-def write_invariant_probe(directory: Path, mutation: Mutation, name: str) -> Path:
+def compares_outputs(cell_type: str, port: str, direction: str) -> bool:
+    """Whether the probe of a mutation of ``port`` compares the cell's outputs (a copy of the
+    cell on the mutated input beside the original): for an input of a cell without state. An
+    input bit that differs may change nothing at the outputs (an AND whose other input is 0
+    then); the outputs are what the rest of the design reads. Other mutations (an output, a
+    flip-flop's or a memory's port) compare the mutated bit itself."""
+    stateful = any(word in cell_type for word in ("dff", "ff", "latch", "mem"))
+    return direction == "input" and not stateful
+
+
+def worth_a_probe(directory: Path, mutation: Mutation) -> bool:
+    """Whether the invariant probe can prove ``mutation`` equivalent: not when it inverts the
+    bit it compares (an output, a flip-flop's port: that bit always differs)."""
+    module = json.loads((Path(directory) / "base.json").read_text())["modules"]["dut"]
+    cell = module["cells"][mutation.cell]
+    direction = cell.get("port_directions", {}).get(mutation.port, "")
+    return mutation.mode != "inv" or compares_outputs(cell["type"], mutation.port, direction)
+
+
+def write_invariant_probe(directory: Path, mutation: Mutation, name: str,
+                          asserts: Sequence[str] = ()) -> Path:
     """``<directory>/<name>.il``: the proof's netlist (``base.il``, its properties kept),
-    unchanged in behaviour, with one more assertion: the bit that ``mutation`` replaces always
-    equals the value the mutation would give it. ``mutate -ctrl`` inserts the mutation behind a
-    multiplexer (its control tied off here, so the design is the original) whose two inputs
-    are the original and the mutated bit; the assertion compares them. When the block's proof
-    still passes, no state reachable from power-up tells the mutant from the original: the
-    mutant is equivalent. (An ``inv`` mutation always differs: it is never worth a probe.)"""
+    unchanged in behaviour, with more assertions. ``mutate -ctrl`` inserts the mutation behind
+    a multiplexer (its control tied off here, so the design is the original) whose two inputs
+    are the original and the mutated bit. The probe asserts that what the mutation changes is
+    always what the original has: the mutated bit, or for an input of a cell without state the
+    cell's outputs (:func:`compares_outputs`: a copy of the cell reads the mutated bit). When
+    the block's proof still passes, no state reachable from power-up tells the mutant from the
+    original: the mutant is equivalent.
+
+    ``asserts``: lemmas, Verilog expressions over the original's wires written ``{name}``
+    (:class:`registry.Proof`), asserted too: the induction may need them, and they are proven
+    with it, not assumed."""
+    directory = Path(directory)
     path = _mutated_base(directory, ["add -wire mutation_probe 1",
                                      *mutation.commands("-ctrl mutation_probe 1 1")], name)
     text = path.read_text()
     muxes = _CTRL_MUX.findall(text)
     if len(muxes) != 1:
         raise RuntimeError(f"{mutation.key}: {len(muxes)} mutate multiplexers in {path}")
-    ports = dict(re.findall(r"connect \\([AB]) (.+)", muxes[0]))
+    mux = dict(re.findall(r"connect \\([ABY]) (.+)", muxes[0]))
+    module = json.loads((directory / "base.json").read_text())["modules"]["dut"]
+    cell = module["cells"][mutation.cell]
+    directions = cell.get("port_directions", {})
+    added = []
+    if compares_outputs(cell["type"], mutation.port, directions.get(mutation.port, "")):
+        copy, pairs = _copied_cell(text, mutation, cell, mux)
+        added.append(copy)
+        what = "the mutated cell's outputs differ from the original's"
+    else:
+        pairs = [(mux["A"], mux["B"], 1)]
+        what = "the mutated bit differs from the original"
+    added += [_PROBE_CHECK.format(a=a, b=b, width=width, n=n, what=what)
+              for n, (a, b, width) in enumerate(pairs)]
+    added.append("  connect \\mutation_probe 1'0\n")
+    modules = []
+    for n, expression in enumerate(asserts):
+        instance, lemma = _lemma(directory, module, expression, n, name)
+        added.append(instance)
+        modules.append(lemma)
     end = text.rindex("\nend")
-    path.write_text(text[:end + 1] + _PROBE_CELLS.format(original=ports["A"],
-                                                         mutated=ports["B"]) + text[end + 1:])
+    text = text[:end + 1] + "".join(added) + text[end + 1:] + "".join(modules)
+    path.write_text(text)
+    # one module, as the proof's netlist always is; the constant tables Yosys made ROMs of
+    # (proc_rom) as logic: a ROM's words are state to the solver, free in an induction step,
+    # so that two tables of one index (a minimum and its count-down's load) would not agree
+    yosys([f"read_rtlil {path.name}", "hierarchy -top dut", "flatten", "memory_map",
+           "opt_clean", f"write_rtlil {path.name}"], directory, f"{name}-flatten.log")
+    for suffix in ("-flatten.log", "-flatten.ys"):
+        (directory / f"{name}{suffix}").unlink()
     return path
+
+
+def _copied_cell(text: str, mutation: Mutation, cell: dict, mux: dict
+                 ) -> tuple[str, list[tuple[str, str, int]]]:
+    """A copy of ``mutation.cell`` as RTLIL (from the probe's ``text``) that reads the mutated
+    bit (the multiplexer's ``B`` where the cell reads its output ``Y``) and drives new wires;
+    the (original, copy, width) of each output."""
+    head = re.search(rf"^  cell \S+ {re.escape(mutation.cell)}\n", text, re.M)
+    if head is None:
+        raise RuntimeError(f"{mutation.key}: no cell {mutation.cell} in the probe's netlist")
+    body = text[head.end():text.index("\n  end\n", head.end())].split("\n")
+    out = [f"  cell {cell['type']} $mutation_probe_copy"]
+    pairs = []
+    for line in body:
+        match = re.fullmatch(r"    connect \\(\w+) (.+)", line)
+        if match is None:
+            out.append(line)
+            continue
+        port, signal = match.groups()
+        if cell["port_directions"].get(port) == "output":
+            wire = f"$mutation_probe_copy_{port}"
+            width = len(cell["connections"][port])
+            out.insert(0, f"  wire width {width} {wire}")
+            pairs.append((signal, wire, width))
+            signal = wire
+        elif port == mutation.port:
+            if mux["Y"] not in signal:
+                raise RuntimeError(f"{mutation.key}: the mutated port {port} does not read "
+                                   f"the mutation's multiplexer ({signal})")
+            signal = signal.replace(mux["Y"], mux["B"])
+        out.append(f"    connect \\{port} {signal}")
+    return "\n".join([*out, "  end", ""]), pairs
+
+
+_NAMED = re.compile(r"\{([^{}\s]+)\}")
+
+
+def _lemma(directory: Path, module: dict, expression: str, n: int, name: str
+           ) -> tuple[str, str]:
+    """One lemma as RTLIL: a module that asserts ``expression`` (its ``{wire}`` names made
+    inputs of the widths the netlist gives them) and its instance in ``dut``."""
+    wires = list(dict.fromkeys(_NAMED.findall(expression)))
+    missing = [w for w in wires if w not in module["netnames"]]
+    if missing:
+        raise RuntimeError(f"lemma {expression!r}: no wire {', '.join(missing)} in the "
+                           "proof's netlist")
+    names = {w: f"p{i}" for i, w in enumerate(wires)}
+    ports = [f"input [{len(module['netnames'][w]['bits']) - 1}:0] {names[w]}" for w in wires]
+    body = _NAMED.sub(lambda m: names[m.group(1)], expression)
+    lemma = f"mutation_lemma_{n}"
+    verilog = directory / f"{name}-lemma{n}.v"
+    verilog.write_text(f"module {lemma}({', '.join(ports)});\n"
+                       f"    always @* assert ({body});\nendmodule\n")
+    yosys([f"read_verilog -formal {verilog.name}", "proc", f"write_rtlil {verilog.stem}.il"],
+          directory, f"{verilog.stem}.log")
+    rtlil = (directory / f"{verilog.stem}.il").read_text()
+    for suffix in (".v", ".il", ".log", ".ys"):
+        (directory / f"{verilog.stem}{suffix}").unlink()
+    # the module alone: the file's header (a comment, the design's ``autoidx``) is the probe's
+    rtlil = "".join(line for line in rtlil.splitlines(keepends=True)
+                    if not line.startswith(("#", "autoidx")))
+    connects = "".join(f"    connect \\{names[w]} \\{w}\n" for w in wires)
+    return f"  cell \\{lemma} $mutation_lemma_{n}\n{connects}  end\n", rtlil
 
 
 def wrapper(toplevel: str, inner: str, ports, width: int) -> str:

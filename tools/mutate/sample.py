@@ -1,14 +1,17 @@
 """The fixed sample of mutants ``make test`` runs (tb/test_mutation_sample.py): at least one per
-block and per fault class, each of which the block's vector stage must kill.
+block, per fault class and per row of docs/robustness.md, each of which the block's vector stage
+must kill. It lives in the registry (tools/mutate/registry.py ``SAMPLE``), which this module
+writes, and from which it writes the robustness table's last column.
 
-Keys name source and kind, not cells, so the sample survives the design being rebuilt; a key
-that no longer resolves (its source line moved) fails the test with the command that draws a
-new sample:
+Keys name source text and kind, not cells nor lines (tools/mutate/keys.py), so the sample
+survives the design being rebuilt and edits elsewhere in a file; a key whose source text is
+gone fails the test with the command that draws a new sample:
 
-    python -m tools.mutate.sample [--seed 7]      # prints a SAMPLE for the test file
+    python -m tools.mutate.sample --write [--seed 7]   # draw, and rewrite the registry's SAMPLE
+    python -m tools.mutate.sample --docs               # rewrite docs/robustness.md's last column
 
-Drawing: for each (block, fault class), every mutation ``mutate`` knows at the class's source
-lines (below, found by their text), run through the sample's own short vector stimulus; a
+Drawing: for each (block, fault class or row), every mutation ``mutate`` knows at the class's
+source lines (below, found by their text), run through the sample's own short vector stimulus; a
 seeded choice among the killed ones. A class where none is killed is printed as such (it goes
 to the campaign's report, not into the sample).
 """
@@ -16,15 +19,21 @@ to the campaign's report, not into the sample).
 from __future__ import annotations
 
 import argparse
+import json
 import random
 import re
+import textwrap
 from pathlib import Path
 
 from .blocks import BLOCKS
+from .keys import Key
 from .netlist import ROOT, BlockNetlist, mutsel_width, wrapper
+from .registry import SAMPLE, Sampled
 from .stages import MutantBench, run_vectors
 
-__all__ = ["ANY", "CLASSES", "ROWS", "SEED", "TRIED", "build", "draw", "main", "stimulus"]
+__all__ = ["ANY", "CLASSES", "DOCS", "ROWS", "SEED", "TRIED", "build", "docs_mismatches",
+           "draw", "main", "mutant_cell", "registry_origin", "registry_text", "stimulus",
+           "write_docs", "write_registry"]
 
 BUILD = ROOT / "build" / "mutate" / "sample"
 #: The sample's stimulus per block: the block's own vector stimulus, shortened (clocks per
@@ -68,10 +77,22 @@ CLASSES = {
                       ("inv", "const0", "const1"), None),
     },
 }
-#: the rows of docs/robustness.md (their first words) -> the logic that implements the row's
-#: behaviour, as CLASSES: a mutant there must fail the tests (the table says which)
+#: the rows of docs/robustness.md (words of their first column that find them) -> the logic
+#: that implements the row's behaviour, as CLASSES (a port may name its bit, ``Y[1]``): a mutant
+#: there must fail the tests (the table's last column names it, written from the registry)
 ANY = ("inv", "const0", "const1", "cnot0", "cnot1")
 ROWS = {
+    "Wishbone: `stb` without `cyc`": {
+        "top_wb": ("rtl/mdfqm_gateware/fronts.py", r"request\.eq\(bus\.cyc & bus\.stb",
+                   ("const1",), None)},
+    "any pair of pin polarities": {
+        "driver": ("rtl/mdfqm_gateware/driver.py", r'"(upper|lower)": Out\(phases\)', ("inv",),
+                   None)},
+    "two events in one clock: a register write": {
+        # bit 1 of the sum of the legs' turn-on strobes: lost only when two legs turn on in
+        # the same clock
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r"total_next\.eq\(total \+ sum", ("const0",),
+                   ("Y[1]",))},
     "reference beyond the linear range": {
         "core": ("rtl/mdfqm_gateware/integrator.py", r"o_x\.eq\(Mux\(self\.o_saturated", ANY,
                  None)},
@@ -92,13 +113,13 @@ ROWS = {
     "runtime changes of period / OSR / zero policy / mode": {
         # the zero policy taken at a start: its register and enable (the port's source line)
         "core": ("rtl/mdfqm_gateware/sequencer.py", r'"policy": Out\(1\)', ANY, None)},
-    "illegal generator mode or bits": {
+    "illegal generator `mode`": {
         "generator": ("rtl/mdfqm_gateware/sequencer.py",
                       r"legal = self\.mode < len|bits_now = Mux\(self\.bits < 1", ANY, None)},
-    "MODULATION written with a mode not built in": {
+    "`MODULATION` written with a mode not built in": {
         "top_wb": ("rtl/mdfqm_gateware/sequencer.py",
                    r"legal = self\.mode < len|bits_now = Mux\(self\.bits < 1", ANY, None)},
-    "sync_in at any time": {
+    "`sync_in` at any time": {
         "core": ("rtl/mdfqm_gateware/sequencer.py",
                  r"restart = self\.sync_in & \(phase >= self\.latency - 1\)", ANY, None)},
     "reset in the middle of an update": {
@@ -109,7 +130,7 @@ ROWS = {
     "AXI4-Lite: an access to a word that holds no register": {
         "top_axi": ("rtl/mdfqm_gateware/fronts.py",
                     r"return Mux\(mask\.bit_select\(address, 1\), AXI_RESP_OKAY", ANY, None)},
-    "IRQ_STATUS written in the clock of a new event": {
+    "`IRQ_STATUS` written with any value": {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"status_next = \(irq_status & ~cleared\)", ANY,
                    None)},
     "any value to any register": {
@@ -120,7 +141,7 @@ ROWS = {
                    ANY, None)},
     "a commanded pulse shorter than the minimum pulse": {
         "driver": ("rtl/mdfqm_gateware/driver.py", r"c < self\.min_pulse\)", ANY, None)},
-    "a slot shorter than the dead time plus the minimum pulse": {
+    "a slot or an update shorter than the dead time plus the minimum pulse": {
         "driver": ("rtl/mdfqm_gateware/driver.py",
                    r"Mux\(drive & self\.active, \(cmd \^ cmd_lat\)", ANY, None)},
     "fault input chatter, fault during a dead time": {
@@ -132,7 +153,7 @@ ROWS = {
     "a fault or a watchdog trip with an active short circuit chosen": {
         "driver": ("rtl/mdfqm_gateware/driver.py",
                    r"m\.d\.comb \+= now\.eq\(Mux\(kill|kill = \(~\(fault_active", ANY, None)},
-    "the controller stops sending references (watchdog)": {
+    "the controller stops sending references": {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"trip\.eq\(\(timeout != 0\)", ANY, None)},
 }
 #: candidates simulated per (class, block) when drawing
@@ -156,11 +177,11 @@ def sized(block: str, seed: int, size: int):
     from . import blocks
 
     if block == "core":
-        return blocks._core_runs(seed, size)
+        return blocks.core_runs(seed, size)
     if block == "generator":
-        return blocks._generator_runs(seed, size)
+        return blocks.generator_runs(seed, size)
     bus = "wishbone" if block == "top_wb" else "axi4lite"
-    return blocks._top_runs(bus, (size,))(seed)
+    return blocks.top_runs(bus, (size,))(seed)
 
 
 def build(block: str, keys, directory: Path):
@@ -188,12 +209,12 @@ def build(block: str, keys, directory: Path):
 SEED = 2024
 
 
-def draw(seed: int) -> dict:
-    """A new sample: {block: [(key, class), ...]} (see the module docstring): per block one
-    netlist and bench with every class's candidates (at most :data:`TRIED` each, seeded),
-    then a seeded choice among the killed ones (two per fault class, one per row)."""
+def draw(seed: int) -> list[Sampled]:
+    """A new sample (see the module docstring): per block one netlist and bench with every
+    class's candidates (at most :data:`TRIED` each, seeded), then a seeded choice among the
+    killed ones (two per fault class, one per row)."""
     rng = random.Random(seed)
-    sample: dict[str, list] = {name: [] for name in BLOCKS}
+    sample: list[Sampled] = []
     wanted = [(f"row: {row}", spec, 1) for row, spec in ROWS.items()]
     wanted = [(name, spec, 2) for name, spec in CLASSES.items()] + wanted
     for block in BLOCKS:
@@ -205,7 +226,7 @@ def draw(seed: int) -> dict:
             path, pattern, modes, ports = per_block[block]
             candidates = {m.key for location in lines_matching(path, pattern)
                           for m in netlist.candidates_at(location) if m.mode in modes
-                          and (ports is None or m.port in ports)}
+                          and _port_matches(m.port, m.bit, ports)}
             keys = sorted(candidates)
             keys = rng.sample(keys, min(TRIED, len(keys)))
             if not keys:
@@ -220,9 +241,148 @@ def draw(seed: int) -> dict:
         for fault_class, keys, count in classes:
             hits = sorted(k for k in keys if k in killed)
             print(f"# {block} / {fault_class}: {len(hits)} of {len(keys)} killed")
-            sample[block] += [(key, fault_class) for key in
-                              rng.sample(hits, min(count, len(hits)))]
+            sample += [Sampled(block, key, fault_class)
+                       for key in rng.sample(hits, min(count, len(hits)))]
     return sample
+
+
+def _port_matches(port: str, bit: int, ports) -> bool:
+    """Whether a mutation's port and bit are among ``ports`` (``None``: any; ``"Y"`` or
+    ``"Y[1]"``)."""
+    return ports is None or port in ports or f"{port}[{bit}]" in ports
+
+
+# ------------------------------------------------------------------------------ the registry
+REGISTRY = ROOT / "tools" / "mutate" / "registry.py"
+_BEGIN = ("# -- sample: written by tools/mutate/sample.py (--write), not by hand; the comments "
+          "are the")
+_END = "# -- end of the sample"
+_ORIGIN = "# -- origin: "
+
+
+def _unit_text(key: str) -> str:
+    """The source text a key names (its first source), for a comment or the table."""
+    for _file, unit in Key.parse(key).where(ROOT):
+        return unit.text if unit is not None else "(gone)"
+    return "(no source)"
+
+
+def registry_text(sample: list[Sampled], origin: str) -> str:
+    """The registry's SAMPLE section for ``sample`` (between its markers, markers included);
+    ``origin``: how the sample was drawn."""
+    out = [_BEGIN, "# -- source text each key names", *textwrap.wrap(
+        origin, 96, initial_indent=_ORIGIN, subsequent_indent="# --   "),
+        "SAMPLE: tuple[Sampled, ...] = ("]
+    for entry in sample:
+        text = _unit_text(entry.key)
+        text = text if len(text) <= 88 else text[:85] + "..."
+        # json's quoting is Python's, with the double quotes of the rest of the code
+        out += [f"    # {text}", f"    Sampled({json.dumps(entry.block)},",
+                f"            {json.dumps(entry.key)},", f"            {json.dumps(entry.why)}),"]
+    out += [")", _END]
+    return "\n".join(out)
+
+
+def registry_origin(path: Path = REGISTRY) -> str:
+    """How the registry's sample was drawn (its ``origin`` comment)."""
+    lines = path.read_text().split("\n")
+    first = next(i for i, line in enumerate(lines) if line.startswith(_ORIGIN))
+    words = [lines[first].removeprefix(_ORIGIN)]
+    for line in lines[first + 1:]:
+        if not line.startswith("# --   "):
+            break
+        words.append(line.removeprefix("# --   "))
+    return " ".join(words)
+
+
+def write_registry(sample: list[Sampled], origin: str, path: Path = REGISTRY) -> None:
+    """Replace the SAMPLE section of the registry (``path``) with ``sample``."""
+    text = path.read_text()
+    first = text.index(_BEGIN)
+    last = text.index(_END) + len(_END)
+    path.write_text(text[:first] + registry_text(sample, origin) + text[last:])
+
+
+# ------------------------------------------------------------------- docs/robustness.md
+DOCS = ROOT / "docs" / "robustness.md"
+#: how the table says which vector runs kill a mutant of each block
+_RUNS = {"core": "the core's", "generator": "the generator's", "driver": "the gate driver's",
+         "top_wb": "the Wishbone top's", "top_axi": "the AXI4-Lite top's"}
+#: the longest source text the table shows
+_SHOWN = 72
+
+
+def _change(key: Key) -> str:
+    if key.mode == "inv":
+        return "inverted"
+    if key.mode in ("const0", "const1"):
+        return f"stuck at {key.mode[-1]}"
+    return f"inverted while bit {key.ctrlbit} is {key.mode[-1]}"
+
+
+def mutant_cell(entry: Sampled) -> str:
+    """The robustness table's last column for a sample mutant: its file and source text (not
+    a line number: the column stays right while the key does), the cell, the change, the runs
+    that kill it."""
+    key = Key.parse(entry.key)
+    text = _unit_text(entry.key)
+    text = text if len(text) <= _SHOWN else text[:_SHOWN - 3] + "..."
+    file = key.files[0] if key.files else "?"
+    code = text.replace("|", "\\|").replace("`", "'")
+    return (f"`{file}`, `{code}`: {key.scope or 'top'} `{key.type}` {key.port}[{key.bit}] "
+            f"{_change(key)}; fails {_RUNS[entry.block]} vector runs")
+
+
+def _cells(line: str) -> list[str]:
+    """The cells of a table line (a ``\\|`` inside one is not a border)."""
+    return [c.strip() for c in re.split(r"(?<!\\)\|", line)[1:-1]]
+
+
+def _table(text: str) -> list[tuple[int, list[str]]]:
+    """The robustness table's body rows: (line index, cells)."""
+    return [(i, _cells(line)) for i, line in enumerate(text.split("\n"))
+            if line.startswith("| ") and not line.startswith("| bad input |")]
+
+
+def _expected_docs(text: str) -> tuple[list[str], list[str]]:
+    """The table's lines with the last column written from the registry, and what does not
+    match (a row no sample mutant names, words that find no row or several)."""
+    lines = text.split("\n")
+    problems = []
+    named = [entry for entry in SAMPLE if entry.row is not None]
+    for entry in named:
+        hits = [i for i, cells in _table(text) if entry.row in cells[0]]
+        if len(hits) != 1:
+            problems.append(f"{entry.why!r} ({entry.block}) finds {len(hits)} rows of the table")
+    for i, cells in _table(text):
+        entries = [e for e in named if e.row in cells[0]]
+        if not entries:
+            if not cells[-1].startswith("none:"):
+                problems.append(f"the row {cells[0][:60]!r}... names no sample mutant (a ROWS "
+                                "entry in tools/mutate/sample.py, drawn into the registry)")
+            continue
+        cells[-1] = mutant_cell(entries[0])
+        lines[i] = "| " + " | ".join(cells) + " |"
+    return lines, problems
+
+
+def docs_mismatches() -> list[str]:
+    """How docs/robustness.md's last column differs from the registry (empty: it agrees)."""
+    text = DOCS.read_text()
+    lines, problems = _expected_docs(text)
+    for was, now in zip(text.split("\n"), lines, strict=True):
+        if was != now:
+            problems.append(f"the table says {_cells(was)[-1]!r}, the registry "
+                            f"{_cells(now)[-1]!r}")
+    return problems
+
+
+def write_docs() -> None:
+    """Rewrite docs/robustness.md's last column from the registry."""
+    lines, problems = _expected_docs(DOCS.read_text())
+    if problems:
+        raise SystemExit("\n".join(problems))
+    DOCS.write_text("\n".join(lines))
 
 
 def main(argv=None) -> int:
@@ -230,15 +390,23 @@ def main(argv=None) -> int:
                                      description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--write", action="store_true",
+                        help="draw a sample and write it into tools/mutate/registry.py")
+    parser.add_argument("--docs", action="store_true",
+                        help="write docs/robustness.md's last column from the registry")
     args = parser.parse_args(argv)
+    if args.docs and not args.write:
+        write_docs()
+        print(f"wrote {DOCS.relative_to(ROOT)}")
+        return 0
     sample = draw(args.seed)
-    print(f"SAMPLE = {{  # python -m tools.mutate.sample --seed {args.seed}")
-    for block, entries in sample.items():
-        print(f"    {block!r}: [")
-        for key, fault_class in entries:
-            print(f"        ({key!r},\n         {fault_class!r}),")
-        print("    ],")
-    print("}")
+    origin = f"drawn by `python -m tools.mutate.sample --write --seed {args.seed}`"
+    if args.write:
+        write_registry(sample, origin)
+        print(f"wrote {REGISTRY.relative_to(ROOT)}; the table: python -m tools.mutate.sample "
+              "--docs")
+    else:
+        print(registry_text(sample, origin))
     return 0
 
 

@@ -1,4 +1,4 @@
-"""The three stages a mutant goes through, stopping at the first failure (a kill):
+"""The three stages a mutant goes through, stopping at the first kill:
 
 1. ``vector``: the block's vector stimulus in the compiled Verilator bench of
    tb/mdfqm_testkit/vectors.py (:class:`MutantBench`, built once per block on the netlist of
@@ -8,10 +8,17 @@
    (:func:`formal.run_sby`, the one mutation applied to the proof's own netlist with its
    properties kept);
 3. ``equivalence`` for the survivors: a longer simulation; the block's proof with one more
-   assertion, that the mutated bit always equals the original (:func:`run_invariant`); Yosys
-   ``equiv`` passes by induction, then a bounded miter from reset
-   (:func:`run_equivalence`). A difference: *not equivalent* (a hole in the tests); a proof:
-   *equivalent*; neither within the time limits: *undecided*.
+   assertion, that the mutated bit always equals the original (:func:`run_invariant`); the
+   check of a reading of the registry, when it has one (:func:`run_reading`); Yosys ``equiv``
+   passes by induction, then a bounded miter from reset (:func:`run_equivalence`). A
+   difference: *not equivalent* (a hole in the tests); a proof: *equivalent*; neither within
+   the time limits: *undecided*.
+
+A kill is a failure that shows the mutant wrong: a vector mismatch (or a simulation stopped on a
+one-hot case the mutant breaks), a failing cocotb test, a counterexample from reset. A stage
+that stops short of a verdict -- a proof whose induction no longer closes without a
+counterexample from reset, a proof or a cocotb run out of time -- is *undecided* there and the
+mutant goes on (:func:`run_formal`, :func:`run_cocotb`).
 """
 
 from __future__ import annotations
@@ -42,6 +49,7 @@ __all__ = [
     "run_equivalence",
     "run_formal",
     "run_invariant",
+    "run_reading",
     "run_vectors",
 ]
 
@@ -136,7 +144,9 @@ def cocotb_build(source: Path, toplevel: str, build_dir: Path) -> None:
 def run_cocotb(build_dir: Path, toplevel: str, module: str, params: dict,
                testcase, mutant: int, work: Path, timeout: float, seed: int) -> dict:
     """One cocotb test module on mutant ``mutant``, in a subprocess (a mutant can hang a
-    test). ``{"killed": bool, "detail": str}``; a timeout is a kill (the test suite fails)."""
+    test). ``{"killed": bool, "undecided": bool, "detail": str}``: a failing test kills; a run
+    that does not end within ``timeout`` is undecided, as a proof out of time is (a slow machine
+    looks the same as a hang), and the mutant goes on to the next stage."""
     work.mkdir(parents=True, exist_ok=True)
     spec = {"build_dir": str(build_dir), "toplevel": toplevel, "module": module,
             "params": params, "testcase": list(testcase) if testcase else None,
@@ -146,7 +156,8 @@ def run_cocotb(build_dir: Path, toplevel: str, module: str, params: dict,
         result = subprocess.run([sys.executable, "-m", "tools.mutate.stages", json.dumps(spec)],
                                 capture_output=True, text=True, cwd=ROOT, timeout=timeout)
     except subprocess.TimeoutExpired:
-        return {"killed": True, "detail": f"{module}: no end within {timeout:.0f} s (hangs)"}
+        return {"killed": False, "undecided": True,
+                "detail": f"{module}: no end within {timeout:.0f} s (undecided, not a kill)"}
     seconds = time.monotonic() - started
     match = re.search(r"COCOTB-MUTANT (\d+) (\d+)", result.stdout)
     if match is None:
@@ -157,10 +168,12 @@ def run_cocotb(build_dir: Path, toplevel: str, module: str, params: dict,
         raise RuntimeError(f"{module}: no cocotb test ran on mutant {mutant}")
     if failed:
         names = re.findall(r"(\w+) +FAIL", result.stdout)
-        return {"killed": True, "detail": f"{module}: {failed} of {total} tests failed "
+        return {"killed": True, "undecided": False,
+                "detail": f"{module}: {failed} of {total} tests failed "
                                           f"({', '.join(names[:4])})"}
     shutil.rmtree(work, ignore_errors=True)
-    return {"killed": False, "detail": f"{module}: {total} tests pass ({seconds:.0f} s)"}
+    return {"killed": False, "undecided": False,
+            "detail": f"{module}: {total} tests pass ({seconds:.0f} s)"}
 
 
 def _cocotb_child(spec: dict) -> None:
@@ -189,54 +202,112 @@ def _cocotb_child(spec: dict) -> None:
     print(f"COCOTB-MUTANT {total} {failed}", flush=True)
 
 
+#: what a run of the block's proof found: a counterexample from reset fails the mutant; a proof
+#: that stops short of a verdict (its induction no longer closes, or it runs out of time) says
+#: nothing about the mutant, which goes on to the next stage
+KILLED, UNDECIDED, PASSED = "killed", "undecided", "passed"
+
+
 def run_formal(component, name: str, depth: int, mutant_il: Path | None) -> dict:
-    """The block's proof (``prove`` task, tb/mdfqm_testkit/formal.py ``run_sby``) on ``mutant_il``
-    (the proof's own netlist with the mutation, :func:`netlist.write_formal_mutant`; it replaces the
-    design after run_sby's ``prep``), or on the original flattened (None). A
-    counterexample is a kill; a proof that no longer closes by induction (no counterexample)
-    is a kill too (the test fails) and said so."""
+    """The block's proof (``prove`` task, tb/mdfqm_testkit/formal.py ``run_sby``) on
+    ``mutant_il`` (the proof's own netlist with the mutation,
+    :func:`netlist.write_formal_mutant`; it replaces the design after run_sby's ``prep``), or on
+    the original flattened (None). ``{"verdict": ..., "killed": bool, "detail": str}``:
+
+    - :data:`KILLED`: the base case (a bounded check from reset, ``depth`` clocks) fails an
+      assertion: a counterexample from reset, a trace the mutant really runs;
+    - :data:`UNDECIDED`: the base case holds but the induction step fails (SymbiYosys's
+      ``UNKNOWN``: a state the induction cannot rule out, maybe unreachable), or the run did not
+      end within run_sby's time limit: the test fails, but nothing shows the mutant wrong;
+    - :data:`PASSED`: proven."""
     from mdfqm_testkit.formal import run_sby
 
     mutation = (("design -reset", f"read_rtlil {mutant_il}", "hierarchy -top dut")
                 if mutant_il else FORMAL_PREFIX)
     try:
         run_sby(component, name, depth, ("prove",), keep_failed=False, mutation=mutation)
-    except subprocess.TimeoutExpired:
-        return {"killed": True, "detail": "proof: no end within run_sby's time limit (the "
-                                          "test fails on it)"}
+    except subprocess.TimeoutExpired as expired:
+        return {"verdict": UNDECIDED, "killed": False,
+                "detail": f"proof: no end within {expired.timeout:.0f} s (run_sby's limit): "
+                          "undecided, not a kill"}
     except AssertionError as error:
-        text = str(error)
-        if "DONE (ERROR" in text:
-            raise RuntimeError(f"the proof of {name} did not run:\n{text[-3000:]}") from error
-        if "BMC failed" in text or "FAIL for basecase" in text:
-            site = re.search(r"failed assertion \S+ at (\S+):(\d+) step (\d+)", text)
-            if site is None:
-                return {"killed": True, "detail": "proof: counterexample"}
-            return {"killed": True,
-                    "detail": f"proof: counterexample at step {site.group(3)}, "
-                              f"\"{assertion_message(site.group(1), int(site.group(2)))}\" "
-                              f"({short_src(site.group(1) + ':' + site.group(2))})"}
-        return {"killed": True, "detail": "proof: the induction no longer closes (no "
-                                          "counterexample from reset)"}
-    return {"killed": False, "detail": "proof passes"}
+        return formal_verdict(str(error), name)
+    return {"verdict": PASSED, "killed": False, "detail": "proof passes"}
+
+
+def formal_verdict(text: str, name: str) -> dict:
+    """The verdict of a failed ``prove`` run from SymbiYosys's output ``text`` (see
+    :func:`run_formal`); an output that says neither raises (a broken run is no verdict)."""
+    if "DONE (ERROR" in text:
+        raise RuntimeError(f"the proof of {name} did not run:\n{text[-3000:]}")
+    if "FAIL for basecase" in text or "DONE (FAIL" in text:
+        site = re.search(r"failed assertion \S+ at (\S+):(\d+) step (\d+)", text)
+        if site is None:        # an assertion without a source line (a probe's, a lemma's)
+            named = re.search(r"failed assertion (\S+)(?: at\s*\S*?)?(?:\s+step (\d+))?$", text,
+                              re.M)
+            return {"verdict": KILLED, "killed": True,
+                    "detail": "proof: counterexample" + (
+                        "" if named is None else f" ({named.group(1).rpartition('.')[2]}"
+                        + (f", step {named.group(2)})" if named.group(2) else ")"))}
+        return {"verdict": KILLED, "killed": True,
+                "detail": f"proof: counterexample at step {site.group(3)}, "
+                          f"\"{assertion_message(site.group(1), int(site.group(2)))}\" "
+                          f"({short_src(site.group(1) + ':' + site.group(2))})"}
+    if "FAIL for induction" in text or "DONE (UNKNOWN" in text:
+        return {"verdict": UNDECIDED, "killed": False,
+                "detail": "proof: the induction no longer closes, no counterexample from reset "
+                          "(undecided, not a kill)"}
+    if "DONE (TIMEOUT" in text:
+        return {"verdict": UNDECIDED, "killed": False,
+                "detail": "proof: SymbiYosys's time limit (undecided, not a kill)"}
+    raise RuntimeError(f"the proof of {name} ended without a verdict:\n{text[-3000:]}")
 
 
 def run_invariant(component, name: str, depth: int, probe_il: Path) -> dict:
     """The first step of stage 3: the block's proof on ``probe_il``
-    (:func:`netlist.write_invariant_probe`: the original, and an assertion that the mutated
-    bit always equals the original one). Passing, it proves the mutant *equivalent*: in every
-    state reachable from power-up the mutation changes nothing. Otherwise *undecided* (a
-    mutated bit that differs somewhere may still never reach an output: the next steps try).
+    (:func:`netlist.write_invariant_probe`: the original, and an assertion that what the
+    mutation changes -- the mutated bit, or the outputs of the cell it feeds -- always equals
+    the original). Passing, it proves the mutant *equivalent*: in every state reachable from
+    power-up the mutation changes nothing. Otherwise *undecided* (a mutated bit that differs
+    somewhere may still never reach an output: the next steps try).
     ``{"verdict": ..., "detail": str}``."""
     result = run_formal(component, name, depth, probe_il)
-    if not result["killed"]:
+    if result["verdict"] == PASSED:
         return {"verdict": "equivalent",
                 "detail": "proven (the block's proof, k-induction to depth "
-                          f"{depth}: the mutated bit equals the original in every reachable "
-                          "state)"}
+                          f"{depth}: what the mutation changes equals the original in every "
+                          "reachable state)"}
+    if result["verdict"] == KILLED:
+        return {"verdict": "undecided",
+                "detail": "the mutated bit can differ from the original (a "
+                          + result["detail"].removeprefix("proof: ") + ")"}
     return {"verdict": "undecided",
-            "detail": "the mutated bit can differ from the original "
-                      + result["detail"].removeprefix("proof").lstrip(": ")}
+            "detail": "not proven: " + _without_verdict(result["detail"])}
+
+
+def run_reading(component, name: str, depth: int, probe_il: Path, lemmas: int) -> dict:
+    """The check of a reading (:class:`registry.Proof`): the block's proof on ``probe_il``, the
+    invariant probe with the reading's ``lemmas`` assertions. Passing, the lemmas and the probe
+    hold in every reachable state: *equivalent*. Otherwise the reading stays an explanation and
+    the mutant *undecided* (a counterexample from reset to a lemma or the probe says the
+    reading is wrong). ``{"verdict": ..., "detail": str}``."""
+    result = run_formal(component, name, depth, probe_il)
+    if result["verdict"] == PASSED:
+        return {"verdict": "equivalent",
+                "detail": f"proven by the reading's proof (its {lemmas} lemma(s) and the "
+                          f"probe, the block's proof, k-induction to depth {depth})"}
+    if result["verdict"] == KILLED:
+        return {"verdict": "undecided",
+                "detail": "the reading's proof fails from reset (the reading is wrong: "
+                          + result["detail"].removeprefix("proof: ") + ")"}
+    return {"verdict": "undecided",
+            "detail": "the reading's proof does not close: " + _without_verdict(result["detail"])}
+
+
+def _without_verdict(detail: str) -> str:
+    """A proof's undecided detail without the formal stage's words about kills."""
+    return detail.removeprefix("proof: ").replace(" (undecided, not a kill)", "").replace(
+        ": undecided, not a kill", "")
 
 
 def assertion_message(path: str, line: int) -> str:

@@ -1,6 +1,7 @@
 """tools/pins_report.py: the dead-time transform and the diode rule on cases derived by hand
-from the driver's documented contract (docs/top.md, "Gate driver"), the equal-switching
-search, and a --quick run through the RTL that must agree with the model."""
+from the driver's documented contract (docs/top.md, "Gate driver"), the continuous-time
+transform of part (b) against the golden model's driver on clock-aligned edges, the
+equal-switching search, and a --quick run through the RTL that must agree with the model."""
 
 import csv
 import math
@@ -8,9 +9,22 @@ import math
 import numpy as np
 import pytest
 
+from mdfqm_spec.contract import Contract
 from tools import pins_report
 from tools.analysis.metrics import PWave
-from tools.pins_report import OFF, GateWave, dead_time_gates, equalise, pole_voltage
+from tools.analysis.signals import bbit_method, run_method
+from tools.pins_report import (
+    DEAD_CLOCKS,
+    DEAD_SECONDS,
+    F_CLK,
+    FC,
+    OFF,
+    GateWave,
+    dead_time_gates,
+    driver_gates,
+    equalise,
+    pole_voltage,
+)
 
 
 def one_leg(times, states):
@@ -73,6 +87,73 @@ def test_pins_round_trip_and_shoot_through():
     assert up.tolist() == [0, 1, 1, 0, 0] and lo.tolist() == [1, 0, 0, 0, 1]
     with pytest.raises(ValueError, match="both switches"):
         GateWave.from_pins([1], [1], 1)
+
+
+# ------------------------------------------------------------------ against the golden model
+# Part (b) keeps dead_time_gates in continuous time; on clock-aligned edges it must give the
+# gates GateDriverModel gives (driver_gates), one clock later.
+
+
+def model_gates(h: np.ndarray, dead: int, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
+    """GateDriverModel's gates for the per-clock command ``h``, clock ``c`` of ``h`` at index
+    ``c`` (the driver's clock of delay taken out): with ``periodic`` the last of three repeats
+    of ``h``, else after the first command held (``dead + 2`` clocks: the legs on to it, as
+    dead_time_gates assumes before the waveform)."""
+    n = len(h)
+    if periodic:
+        up, lo = driver_gates(np.tile(h, 3), dead)
+        return up[2 * n:], lo[2 * n:]
+    lead = dead + 2
+    up, lo = driver_gates(np.concatenate([np.full(lead, h[0]), h]), dead)
+    return up[lead:], lo[lead:]
+
+
+def transform_gates(h: np.ndarray, dead: int, periodic: bool,
+                    rate: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """dead_time_gates of the per-clock command ``h`` with clocks of ``1/rate`` (in seconds
+    at the report's clock, rounding in every edge), per clock."""
+    w = dead_time_gates(PWave.from_samples(h, rate, 3), dead / rate, periodic=periodic)
+    turns = w.t * rate
+    assert np.allclose(turns, np.round(turns), atol=1e-6, rtol=0)
+    return GateWave(np.round(turns), w.g).per_clock(len(h))
+
+
+@pytest.mark.parametrize("rate", [1.0, F_CLK])
+@pytest.mark.parametrize("periodic", [False, True])
+@pytest.mark.parametrize("dead", [1, 2, 3, 7, 20])
+def test_transform_is_the_model_driver_on_clock_edges(dead, periodic, rate):
+    # random commands, runs of 1 to 3 dead times (pulses swallowed, a pulse of exactly the
+    # dead time, reverting and re-reverting within a dead time, long ones), three legs
+    # independent; in clocks and in seconds
+    rng = np.random.default_rng(31 + dead)
+    runs = rng.integers(1, 3 * dead + 2, 400)
+    h = np.repeat(rng.integers(0, 8, len(runs)), runs)
+    up, lo = model_gates(h, dead, periodic)
+    want_up, want_lo = transform_gates(h, dead, periodic, rate)
+    assert (up == want_up).all() and (lo == want_lo).all()
+    assert ((up | lo) != 7).any()                    # blanking intervals were compared
+
+
+@pytest.mark.parametrize(("mode", "bits"), [("svpwm", 8), ("svpwm", 4), ("dpwm", 8)])
+def test_sweep_waveform_is_the_model_driver_on_clock_edges(mode, bits):
+    # part (b)'s path (run_method in seconds, the periodic transform with the report's dead
+    # time) at the carrier of part (a), where every slot edge is a clock edge (13 clocks per
+    # b = 8 slot, shorter than the 20-clock dead time: swallowed pulses)
+    samples = 6
+    wave = run_method(Contract(3, 16), bbit_method(mode, bits), FC, 50.0, 0.5, samples / FC,
+                      fsw=FC).wave
+    clocks = round(samples * F_CLK / FC)
+    edges = wave.t * F_CLK
+    assert np.allclose(edges, np.round(edges), atol=1e-6, rtol=0)
+    h = np.repeat((wave.s.astype(np.int64) << np.arange(3)).sum(axis=1),
+                  np.diff(np.round(edges).astype(np.int64)))
+    assert len(h) == clocks
+    gates = dead_time_gates(wave, DEAD_SECONDS, periodic=True)
+    turns = gates.t * F_CLK
+    assert np.allclose(turns, np.round(turns), atol=1e-6, rtol=0)
+    want_up, want_lo = GateWave(np.round(turns), gates.g).per_clock(clocks)
+    up, lo = model_gates(h, DEAD_CLOCKS, periodic=True)
+    assert (up == want_up).all() and (lo == want_lo).all()
 
 
 # ------------------------------------------------------------------ the diode rule

@@ -1,0 +1,348 @@
+"""The one registry of named mutants (keys: tools/mutate/keys.py):
+
+- :data:`SAMPLE`, the mutants ``make test`` runs (tb/test_mutation_sample.py): at least one per
+  block, per fault class and per row of docs/robustness.md, each of which its block's vector
+  stimulus must kill; the robustness table's last column is written from it
+  (``python -m tools.mutate.sample --docs``; tools/tests/test_mutate.py fails when they
+  disagree);
+- :data:`READINGS`, what the campaign's survivors were read to be (``make mutate``'s report prints
+  each beside its mutant). A reading is an explanation, never a verdict: a mutant counts as
+  equivalent only when a check proves it, and a reading's :class:`Proof` is such a check (the
+  campaign's equivalence stage runs it, :func:`tools.mutate.stages.run_reading`).
+
+:data:`SAMPLE` is written by ``python -m tools.mutate.sample --write`` (keep its markers; the
+test of the registry writes it again and compares); :data:`READINGS` by hand, and a proof added
+to a reading is run on the campaign's databases by ``python -m tools.mutate --resume --recheck``
+(or on one mutant, ``--block <block> --only '<key>'``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["READINGS", "SAMPLE", "Proof", "Reading", "Sampled", "reading"]
+
+
+@dataclass(frozen=True)
+class Sampled:
+    """A mutant of the sample: its block, its key and why it is there (its fault class, or
+    ``row: <words of the docs/robustness.md row whose behaviour its logic implements>``)."""
+
+    block: str
+    key: str
+    why: str
+
+    @property
+    def row(self) -> str | None:
+        """The words that find its row of docs/robustness.md, if it names one."""
+        return self.why.removeprefix("row: ") if self.why.startswith("row: ") else None
+
+
+@dataclass(frozen=True)
+class Proof:
+    """A check that backs a reading: ``asserts`` (Verilog expressions over the original design's
+    wires, each written ``{name}`` with its flattened name, e.g. ``{core.sequencer.phase}``; a
+    Verilog concatenation keeps a space after its commas, ``{2'b00, {x}}``)
+    added to the block's own proof with the mutation's probe (the mutated cell computes what
+    the original does, in every state: :func:`tools.mutate.netlist.write_reading_probe`),
+    proven by k-induction to ``depth`` clocks (None: the block's). Passing, every assertion and
+    the probe hold in every reachable state: the mutant is equivalent to the original under
+    the proof's assumptions. The assertions are lemmas the induction needs, proven with it, not
+    assumed."""
+
+    asserts: tuple[str, ...]
+    depth: int | None = None
+
+
+@dataclass(frozen=True)
+class Reading:
+    """Why a surviving mutant survives, as read: ``text`` (an explanation) and, when one exists,
+    the :class:`Proof` that backs its claim of equivalence."""
+
+    key: str
+    text: str
+    proof: Proof | None = None
+
+
+def reading(key: str) -> Reading | None:
+    """The reading of a mutation key, if any."""
+    return next((r for r in READINGS if r.key == key), None)
+
+
+# -- sample: written by tools/mutate/sample.py (--write), not by hand; the comments are the
+# -- source text each key names
+# -- origin: drawn with seed 7 by the line-keyed sample tool before the keys named source text
+# --   (the Wishbone top's two-events row chosen by hand among the mutants it killed), then its
+# --   keys translated cell for cell into source-text keys on the same netlists
+SAMPLE: tuple[Sampled, ...] = (
+    # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
+    Sampled("core",
+            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#0 B[7] const1",
+            "datapath"),
+    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+    Sampled("core",
+            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 B[4] const1",
+            "datapath"),
+    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+    Sampled("core",
+            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 A[22] const0",
+            "row: reference beyond the linear range"),
+    # m.d.sync += total.eq(sum((raw[i] for i in range(n))))
+    Sampled("core",
+            "rtl/mdfqm_gateware/reference.py@0cda0ddb reference $add#2 Y[11] inv",
+            "row: common-mode offset"),
+    # m.d.sync += [scaled[i].eq(raw[i] * n) for i in range(n)]
+    Sampled("core",
+            "rtl/mdfqm_gateware/reference.py@7c2b223b reference $mul#0 A[6] inv",
+            "row: extreme codes"),
+    # next_values[a].eq(Mux(a_first, values[a], values[b]))
+    Sampled("core",
+            "rtl/mdfqm_gateware/sort.py@5e605890 sort1 $mux#1 B[4] const0",
+            "row: equal references (ties)"),
+    # clamped = self.period < self.latency
+    Sampled("core",
+            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[7] inv",
+            "row: update period below the loop latency"),
+    # osr_now = Mux(self.osr == 0, 1, self.osr)
+    Sampled("core",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $logic_not#0 A[6] const0",
+            "row: OSR 0"),
+    # restart = self.sync_in & (phase >= self.latency - 1)
+    Sampled("core",
+            "rtl/mdfqm_gateware/sequencer.py@c6b6cfb4 sequencer $ge#0 A[7] inv",
+            "row: `sync_in` at any time"),
+    # m.d.comb += self.ref.ready.eq(~(in_raw | in_scaled | full))
+    Sampled("core",
+            "rtl/mdfqm_gateware/reference.py@23503a91 reference $not#0 Y[0] inv",
+            "row: a reference beat while one is pending"),
+    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+    Sampled("core",
+            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 Y[24] const1",
+            "datapath"),
+    # 'policy': Out(1)
+    Sampled("core",
+            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 S[0] const0",
+            "row: runtime changes of period / OSR / zero policy / mode"),
+    # start_q, tick_q = (Signal(init=1), Signal(init=1))
+    Sampled("core",
+            "rtl/mdfqm_gateware/sequencer.py@ccc5115c sequencer $mux#0 S[0] const0",
+            "row: reset in the middle of an update"),
+    # m.d.sync += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
+    Sampled("generator",
+            "rtl/mdfqm_gateware/resolution.py@0534a126 quantiser $sub#3 B[10] const1",
+            "datapath"),
+    # m.d.sync += count.eq(count - 1)
+    Sampled("generator",
+            "rtl/mdfqm_gateware/resolution.py@e3955bfc layout $sub#0 A[4] const1",
+            "datapath"),
+    # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
+    Sampled("generator",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[3] cnot1/2",
+            "row: illegal generator `mode`"),
+    # ofs['o2'].eq(self.i_min * 2 + k_tab[2])
+    Sampled("generator",
+            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $add#0 Y[9] inv",
+            "datapath"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
+            "row: any pair of pin polarities"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
+            "pin polarity"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const0",
+            "two events in one clock"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const1",
+            "two events in one clock"),
+    # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg2 $mux#0 Y[8] cnot0/3",
+            "row: dead time below the elaboration floor"),
+    # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $gt#0 A[11] inv",
+            "row: a commanded pulse shorter than the minimum pulse"),
+    # m.d.comb += fault_active.eq(self.fault_input | self.fault)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 Y[0] inv",
+            "row: fault input chatter, fault during a dead time"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
+            "pin polarity"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
+            "two events in one clock"),
+    # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 Y[1] cnot1/0",
+            "row: a slot or an update shorter than the dead time plus the minimum pulse"),
+    # drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@f9ddc422 top $mux#0 S[0] const1",
+            "row: enable toggled in the middle of an update"),
+    # kill = ~(fault_active | self.stop) | self.all_off | rise_f & (f == 0) | rise_w & (w =...
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@a08180b1 top $or#2 B[0] const0",
+            "row: a fault or a watchdog trip with an active short circuit chosen"),
+    # 'upper': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
+            "pin polarity"),
+    # 'lower': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg2 $dff#0 Q[0] inv",
+            "pin polarity"),
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 B[0] const1",
+            "row: Wishbone: `stb` without `cyc`"),
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
+            "bus handshake (cyc or stb alone)"),
+    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 B[2] const1",
+            "two events in one clock"),
+    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[0] inv",
+            "two events in one clock"),
+    # status_next = irq_status & ~cleared | irq_events
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 A[1] cnot0/4",
+            "row: `IRQ_STATUS` written with any value"),
+    # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $lt#0 A[11] inv",
+            "row: any value to any register"),
+    # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@c07b0f4d top $ge#0 B[13] inv",
+            "row: the controller stops sending references"),
+    # 'upper': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg0 $dff#0 Q[0] inv",
+            "pin polarity"),
+    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#2 Y[1] const0",
+            "row: two events in one clock: a register write"),
+    # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[0] const0",
+            "row: `MODULATION` written with a mode not built in"),
+    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#0 Y[0] const1",
+            "bus handshake (cyc or stb alone)"),
+    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
+            "bus handshake (cyc or stb alone)"),
+    # status_next = irq_status & ~cleared | irq_events
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 B[3] const1",
+            "two events in one clock"),
+    # status_next = irq_status & ~cleared | irq_events
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[4] const1",
+            "two events in one clock"),
+    # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[6] inv",
+            "row: AXI4-Lite: an access to a word that holds no register"),
+)
+# -- end of the sample
+
+
+#: a register bit that toggles every clock while the register holds, read at one clock of the
+#: update
+_TOGGLED_WHILE_HELD = (
+    "{what} toggles every clock while the register holds (the mutation sits on its output, "
+    "which the hold path feeds back: what is read alternates between the loaded value and the "
+    "mutated one); it is loaded at an update start and read (through `p_lat`, `slot_len`, "
+    "`slot_m2`) only when the layout loads, a fixed number of clocks after the start, where the "
+    "vector runs show it holding its loaded value.")
+
+#: a bit of the minimum-period count-down ``floor`` cleared
+_FLOOR_CLEARED = (
+    "{what}. Only the sign of `floor` (18 bits, signed) is read. It is loaded with `minimum - "
+    "3` <= 253, below 2**{bit}, so nothing changes until it is negative; from -1 on, it stays "
+    "negative for 65,536 clocks (counted on the mutant's arithmetic), and every update (at most "
+    "65,535 clocks) reloads it first.")
+#: a leg's ``hi`` at 256 (the leg on for the whole update) changed to another value past it
+_HI_PAST_LAST = (
+    "{what}. `hi = lo + on = floor(m / 2) + 2**B - m` is at least 128, and {when} only at `hi = "
+    "256` (m = 0: the leg on for the whole update). The mutant's {value} is past the last slot's "
+    "index as 256 is: the turn-off compare at the load (`delta == hi`, delta <= 128) fails "
+    "either way, and a match of `after == 256` at the advance into the last slot is never used "
+    "(the last slot is held until the next load): the leg stays on.")
+
+
+def _minimum_bit_cleared(b: int) -> str:
+    """Bit b of ``minimum``, set only by the minimum ``2**b`` of that b, read as 0."""
+    return (
+        f"bit {b} of `minimum` reads 0 (the hold path feeds the 0 back), so the minimum of b = "
+        f"{b}, {1 << b}, reads 0 and `P = max(period, minimum)` is the period itself when that "
+        "is shorter. P is read only as `slot_len = P >> b`, then 0 instead of 1, and slots of 0 "
+        "or 1 clocks are the same one-clock slots: the layout's count-down is loaded with "
+        "`slot_len - 2`, negative either way, and advances every clock. The update's length "
+        "comes from the `floor` count-down, loaded from the table, not from `minimum`.")
+
+
+READINGS: tuple[Reading, ...] = (
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@a431f61e sequencer $dff#0 Q[10] cnot1/8",
+        "not equivalent, out of the tests' reach: `phase` bit 10 is inverted while bit 8 is set "
+        "(`phase` >= 256); its only reader, the sync restart's `phase >= latency - 1`, holds "
+        "either way, unless the mutated count wraps past 65535 inside one update (an update of "
+        "more than about 64,500 clocks) and a sync arrives in the few clocks after the wrap."),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 sequencer $dff#0 Q[6] inv",
+        _TOGGLED_WHILE_HELD.format(what="bit 6 of `minimum` (the minimum period)")),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@a15f700b sequencer $dff#0 Q[5] cnot1/1",
+        _TOGGLED_WHILE_HELD.format(what="bit 5 of `period_lat` (the latched period), while its "
+                                        "bit 1 is set,")),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@24f01f3e quantiser $and#0 B[0] cnot0/2",
+        "bit 0 of the slot-grid mask `lo_mask` (set only for b = 8) is inverted while its bit 2 "
+        "is clear (b < 6), so `lo = (m >> 1) & lo_mask` takes bit 1 of the quotient `m` too. At "
+        "b < 6 the quotient's low B - b >= 3 bits are 0 (after its b-th step the divider shifts "
+        "in zeros: `fits & (want != 0)`), so that bit is 0 and `lo` is unchanged."),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@64f896ee sequencer $sub#0 A[15] const0",
+        _FLOOR_CLEARED.format(what="the minimum-period count-down `floor` is decremented with "
+                                   "its bit 15 cleared", bit=15)),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@64f896ee core.sequencer $mux#1 Y[13] const0",
+        _FLOOR_CLEARED.format(what="bit 13 of every value written to the minimum-period "
+                                   "count-down `floor` is cleared, loads included", bit=13)),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[8] cnot0/15",
+        _TOGGLED_WHILE_HELD.format(what="bit 8 of `minimum` (the minimum period; the mutation "
+                                        "inverts it while bit 15, always clear, is clear)")),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@9dbd1841 core.quantiser $dff#0 Q[3] cnot0/7",
+        _HI_PAST_LAST.format(what="bit 3 of the quantiser's `hi` of leg 0 is inverted while its "
+                                  "bit 7 is clear", when="its bit 7 is clear", value=264)),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@9dbd1841 core.quantiser $mux#1 Y[6] cnot1/8",
+        _HI_PAST_LAST.format(what="bit 6 of what the quantiser's `hi` of leg 1 is loaded with "
+                                  "is inverted while its bit 8 is set",
+                             when="its bit 8 is set", value=320)),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[5] const0",
+        _minimum_bit_cleared(5)),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[6] const0",
+        _minimum_bit_cleared(6)),
+)
