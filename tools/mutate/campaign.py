@@ -49,9 +49,9 @@ from .stages import (
 )
 
 __all__ = [
-    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "PROVEN_BY", "STAGES", "STIMULUS_SOURCES",
+    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "PROVEN_BY", "STAGES",
     "BlockCampaign", "Settings", "check_reading", "counts", "evaluate", "kept_records", "run",
-    "stimulus_hash", "summary_line",
+    "stimulus_hash", "stimulus_sources", "summary_line",
 ]
 
 BUILD = ROOT / "build" / "mutate"
@@ -260,15 +260,17 @@ def stimulus_hash() -> str:
     """A hash of the sources of the blocks' vector stimulus: cached vector files are redone
     when it changes."""
     digest = hashlib.sha256()
-    for path in STIMULUS_SOURCES:
+    for path in stimulus_sources():
+        digest.update(path.as_posix().encode())
         digest.update((ROOT / path).read_bytes())
     return digest.hexdigest()[:16]
 
 
-#: the files the vector stimulus of :mod:`.blocks` is made by
-STIMULUS_SOURCES = ("tb/mdfqm_testkit/core_stimulus.py", "tb/mdfqm_testkit/bbit_stimulus.py",
-                    "tb/mdfqm_testkit/top_stimulus.py", "tb/mdfqm_testkit/driver_stimulus.py",
-                    "tools/mutate/blocks.py")
+def stimulus_sources() -> list[Path]:
+    """The files the vector stimulus of :mod:`.blocks` is made by: the whole test kit (its
+    sequences, masters, coverage and models of the stimulus) and the blocks' run lengths."""
+    kit = sorted(p.relative_to(ROOT) for p in (ROOT / "tb" / "mdfqm_testkit").glob("*.py"))
+    return [*kit, Path("tools/mutate/blocks.py")]
 
 
 #: why a mutation of a flop's clock port has no formal stage and no equivalence check
