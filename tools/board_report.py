@@ -106,7 +106,8 @@ def table(rows: list[tuple], versions: list[str], seed) -> str:
     today = datetime.date.today().isoformat()
     lines = [BEGIN,
              f"Board builds of the demo (`make report`, {today}, {os.cpu_count()}-core machine; "
-             f"nextpnr seed {seed if seed is not None else 'default'}):", "",
+             f"nextpnr seed {seed if seed is not None else 'default'}, or the board's own "
+             "where its `nextpnr_opts` names one):", "",
              "| board | device | clock MHz | LUT4 | FF | LCs / slices used | BRAM | PLL | "
              "Fmax MHz (post-route) | build s |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
