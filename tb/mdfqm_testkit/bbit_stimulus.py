@@ -51,7 +51,7 @@ from mdfqm_testkit.core_stimulus import (
 )
 from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.harness import pack
-from mdfqm_testkit.sequences import Sequence, doc, robustness
+from mdfqm_testkit.sequences import Sequence, Waits, doc, robustness
 
 #: port name -> model output name
 OUTPUTS = {**core_stimulus.OUTPUTS, "mode_clamped": "mode_clamped",
@@ -614,7 +614,7 @@ class StreamHonoursReady(GeneratorSequence):
             yield
 
 
-class GeneratorRun:
+class GeneratorRun(Waits):
     """One scenario of the generator: the model, the runtime ports, the stream, the pins, the
     scenario's sequences and the coverage (see the module docstring)."""
 
@@ -646,17 +646,6 @@ class GeneratorRun:
         self.bodies = [s.body() for s in self.sequences]
 
     # --------------------------------------------------------------- what sequences use
-    def wait(self, clocks: int):
-        for _ in range(clocks):
-            yield
-
-    def until(self, predicate, limit: int):
-        for _ in range(limit):
-            if predicate():
-                return True
-            yield
-        return False
-
     def updates(self, n: int):
         """Wait until ``n`` more update starts have passed."""
         target = self.starts + n

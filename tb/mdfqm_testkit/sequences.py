@@ -50,6 +50,22 @@ def anchor(heading: str) -> str:
     return text.replace(" ", "-")
 
 
+class Waits:
+    """What a run offers its sequences to wait with (each yields once per clock)."""
+
+    def wait(self, clocks: int):
+        for _ in range(clocks):
+            yield
+
+    def until(self, predicate, limit: int):
+        """Wait until ``predicate()`` holds (True) or ``limit`` clocks have passed (False)."""
+        for _ in range(limit):
+            if predicate():
+                return True
+            yield
+        return False
+
+
 class Sequence:
     """One named sequence of stimulus (see the module docstring).
 

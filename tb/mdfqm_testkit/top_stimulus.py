@@ -33,6 +33,7 @@ from mdfqm_testkit.bus_masters import MASTERS, Access
 from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes
 from mdfqm_testkit.coverage import Coverage, band
 from mdfqm_testkit.harness import pack
+from mdfqm_testkit.sequences import Waits
 from mdfqm_testkit.vectors import ports_of
 
 #: sequences running at once, at most (besides background traffic)
@@ -129,7 +130,7 @@ class StreamSource:
         return self.offered is not None or (self.eager and not self.stalled)
 
 
-class TopRun:
+class TopRun(Waits):
     """One run of the drop-in top: the model, the bus master of its front, the stream, the
     fault and sync pins, the sequences running and the coverage (see the module docstring)."""
 
@@ -228,18 +229,6 @@ class TopRun:
         flat = [a for item in accesses for a in (item if isinstance(item, list) else [item])]
         while not all(self.done(a) for a in flat):
             yield
-
-    def wait(self, clocks: int):
-        for _ in range(clocks):
-            yield
-
-    def until(self, predicate, limit: int):
-        """Wait until ``predicate()`` holds (True) or ``limit`` clocks have passed (False)."""
-        for _ in range(limit):
-            if predicate():
-                return True
-            yield
-        return False
 
     def updates(self, n: int, limit: int = 70_000):
         """Wait until ``n`` more update starts have passed."""

@@ -166,6 +166,20 @@ def pack_words(columns: Mapping[str, Sequence[int]], fields: Sequence[tuple[str,
     return lines
 
 
+class Tally:
+    """The checked clocks, the mismatches and the first mismatch lines of several vector runs
+    of one bench (``add`` each run's result, with the clocks it was given)."""
+
+    def __init__(self):
+        self.total, self.mismatches, self.details = 0, 0, []
+
+    def add(self, name: str, result: dict, cycles: int) -> None:
+        assert result["cycles"] == cycles, result
+        self.total += result["cycles"]
+        self.mismatches += result["mismatches"]
+        self.details += [f"{name}: {line}" for line in result["first"]]
+
+
 class VectorBench:
     """Build once, run many vector files against ``component``: under Verilator (the default)
     or Icarus (``simulator="icarus"``), on the component's own Verilog or on ``source`` (a
