@@ -89,8 +89,8 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
     directory = build_dir(board_name, out)
     platform = board.make_platform()
     opts = [board.nextpnr_opts] if board.nextpnr_opts else []
-    if seed is not None:
-        opts.append(f"--seed {seed}")
+    if seed is not None:     # the seed asked for replaces the board's own (nextpnr takes one)
+        opts = [re.sub(r"--seed\s+\d+", "", o).strip() for o in opts] + [f"--seed {seed}"]
     start = time.monotonic()
     platform.build(DemoTop(board), name=NAME, build_dir=str(directory), do_program=False,
                    verbose=verbose, nextpnr_opts=" ".join(opts))

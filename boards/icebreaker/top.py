@@ -1,8 +1,8 @@
 """iCEBreaker (iCE40UP5K-SG48): the default board.
 
 Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 27 MHz system clock (the demo reaches
-26.4-28.4 MHz on the UP5K over nextpnr seeds 1-4, measured 2026-11-27 with YoWASP nextpnr-ice40:
-seed 1 28.41, seed 2 26.88, seed 3 26.62, seed 4 26.42 MHz, so the build places with seed 1;
+26.5-28.9 MHz on the UP5K over nextpnr seeds 1-4, measured 2026-11-27 with YoWASP nextpnr-ice40:
+seed 1 28.93, seed 2 27.85, seed 3 28.08, seed 4 26.47 MHz, so the build places with seed 1;
 its critical path is the bridge's register read through the top's read multiplexer). The
 MDFQM-only top: the full generator does not fit beside the demo.
 Pins: gates, fault and scope trigger on PMOD1A; UART through the FTDI (second channel);
