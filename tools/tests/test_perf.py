@@ -28,10 +28,24 @@ def test_configs_cover_the_drop_in_files():
     # and the core at N = 5, as the drop-in file for five phases
     name, factory = default_configs(5, 16)[0]
     assert _params(configs[name].build()) == _params(factory())
-    assert len({c.key for c in perf.CONFIGS}) == len(perf.CONFIGS) == 6
+    assert len({c.key for c in perf.CONFIGS}) == len(perf.CONFIGS) == 8
     assert [c.design for c in perf.CONFIGS] == [
-        "core", "core", "generator (b<=8)", "top, Wishbone", "top, AXI4-Lite",
+        "core", "core", "core", "core", "generator (b<=8)", "top, Wishbone", "top, AXI4-Lite",
         "top, MDFQM only"]
+    # the core at N = 6 and 9 as the drop-in files for those phases hold it
+    for phases in (6, 9):
+        name, factory = default_configs(phases, 16)[0]
+        assert _params(configs[name].build()) == _params(factory())
+
+
+def test_scaling_rows_only_on_the_larger_devices():
+    pairs = perf.pairs_of([c.key for c in perf.CONFIGS], [d.key for d in perf.DEVICES])
+    keys = [(c.key, d.key) for c, d in pairs]
+    assert ("core6", "up5k") not in keys and ("core9", "up5k") not in keys
+    assert {("core6", "hx8k"), ("core6", "ecp5"), ("core9", "hx8k"),
+            ("core9", "ecp5")} <= set(keys)
+    assert len(keys) == 6 * 3 + 2 * 2
+    assert perf.pairs_of(["core9"], ["up5k"]) == []
 
 
 def test_targets():
@@ -39,6 +53,8 @@ def test_targets():
     assert targets["core3"] == {"up5k": 48, "hx8k": 100, "ecp5": 150}
     assert targets["top_wb"] == targets["top_axil"] == {"up5k": 40, "hx8k": 90, "ecp5": 130}
     assert targets["core5"] == targets["generator"] == {}
+    relative = {c.key: c.relative for c in perf.CONFIGS if c.relative}
+    assert relative == {"core6": ("core3", 1.5), "core9": ("core3", 1.5)}
     assert {d.key for d in perf.DEVICES} == set(perf.CORE_TARGETS) == set(perf.TOP_TARGETS)
     # nextpnr is asked for the core's target on every row, as before
     assert {d.key: d.target_mhz for d in perf.DEVICES} == perf.CORE_TARGETS
@@ -52,8 +68,8 @@ def _row(key, device_key, fmax, **extra):
     row = {"key": key, "design": config.design, "phases": 5 if key == "core5" else 3,
            "width": 16, "device": device.name, "device_key": device_key,
            "target": config.targets.get(device_key), "synth": device.synth, "fallback": False,
-           "fmax": fmax, "latency": 8, "long_latency": None, "luts": 1000, "ffs": 900,
-           "carry": 300, "dsp": 3}
+           "fmax": fmax, "fmax_min": fmax and fmax - 1, "seeds": [1, 2, 3, 4, 5], "latency": 8,
+           "long_latency": None, "luts": 1000, "ffs": 900, "carry": 300, "dsp": 3}
     return {**row, **extra}
 
 
@@ -70,11 +86,12 @@ def test_table_marks_met_and_missed():
         _row("top_wb", "up5k", 40.2),
         _row("top_axil", "ecp5", 129.9, synth="synth_ecp5 -dff", fallback=True),
     ]
-    text = perf.table(rows, "Yosys X, nextpnr-Y")
+    text = perf.table(rows, "Yosys X, nextpnr-Y", "2026-01-02")
     body = [_cells(line) for line in text.splitlines() if line.startswith("| ")]
     header, *cells = body
-    assert header == ["design", "N / width", "device", "loop latency (clocks)", "Fmax (MHz)",
-                      "target (MHz)", "max update rate (MHz)", "LUT4", "FF", "carry", "DSP"]
+    assert header == ["design", "N / width", "device", "loop latency (clocks)",
+                      "Fmax median (MHz)", "Fmax min (MHz)", "seeds", "target (MHz)",
+                      "max update rate (MHz)", "LUT4", "FF", "carry", "DSP"]
     assert all(len(c) == len(header) for c in cells)
     column = {name: i for i, name in enumerate(header)}
     got = [(c[column["design"]], c[column["target (MHz)"]]) for c in cells]
@@ -88,7 +105,10 @@ def test_table_marks_met_and_missed():
     assert generator[column["loop latency (clocks)"]] == "8 short, 20 long"
     assert generator[column["max update rate (MHz)"]] == (
         f"{44 / 8:.2f} short, {44 / 256:.3f} long at b = 8\u00b9")
-    assert "256 at b = 8" in text and "Yosys X, nextpnr-Y" in text
+    assert "256 at b = 8 (generator (b<=8))" in text and "Yosys X, nextpnr-Y" in text
+    assert "on 2026-01-02" in text and "issue" not in text
+    assert cells[0][column["Fmax min (MHz)"]] == "46.9"
+    assert cells[0][column["seeds"]] == "1,2,3,4,5"
     # the ECP5 row synthesised with the fallback is marked, and the note names the command
     assert cells[5][column["device"]] == "ECP5-25F (speed 6)\u00b2"
     assert "\u00b2 Synthesised with `synth_ecp5 -dff`" in text
@@ -97,8 +117,65 @@ def test_table_marks_met_and_missed():
     assert "\n\n\u00b9 Generator" in text and "\n\n\u00b2 Synthesised" in text
 
 
+def test_long_period_note_names_each_design_with_its_own():
+    rows = [_row("generator", "up5k", 44.0, long_latency=20, long_period=256, max_bits=8),
+            _row("top_wb", "up5k", 40.0, long_latency=20, long_period=256, max_bits=8),
+            _row("top_mdfqm", "up5k", 40.0, long_latency=8, long_period=8, max_bits=0)]
+    text = perf.table(rows, "v", "d")
+    assert ("256 at b = 8 (generator (b<=8), top, Wishbone); 8 at b = 0 (top, MDFQM only)."
+            in text)
+
+
+def test_relative_target_and_no_fit_rows():
+    rows = [_row("core6", "hx8k", 71.0, target=70.0, relative=("core3", 1.5)),
+            _row("core9", "hx8k", None, fmax_min=None, seeds=[], target=70.0,
+                 relative=("core3", 1.5), no_fit="Design uses 9000 LCs")]
+    text = perf.table(rows, "v", "d")
+    cells = [_cells(line) for line in text.splitlines() if line.startswith("| ")][1:]
+    assert cells[0][7] == "70.0 = N=3's / 1.5 (met)"
+    assert cells[1][4] == "does not fit: Design uses 9000 LCs"
+    assert "does not fit the device (Design uses 9000 LCs)" in perf.status(rows, "d")
+
+
+def test_summary_judges_the_median_seed():
+    config = next(c for c in perf.CONFIGS if c.key == "core6")
+    device = next(d for d in perf.DEVICES if d.key == "ecp5")
+
+    class Design:
+        phases, width, latency = 6, 16, 12
+
+    row = perf.Row(config, device, ROOT / "build", Design(), synth="synth_ecp5",
+                   counts={"luts": 1, "ffs": 2, "carry": 3, "dsp": 0})
+    for seed, fmax in zip(perf.SEEDS, (90.0, 110.0, 100.0, 80.0, 120.0), strict=True):
+        row.routes[seed] = {"seed": seed, "fmax": fmax, "critical": {"seed": seed},
+                            "log": f"seed{seed}", "seconds": 1.0}
+    assert row.seeds == perf.SEEDS
+    got = perf.summary(row, {"ecp5": 150.0})
+    assert (got["fmax"], got["fmax_min"], got["target"]) == (100.0, 80.0, 100.0)
+    assert got["critical_seed"] == 3 and got["critical"] == {"seed": 3}
+    # a row without a target routes the first seed only
+    plain = perf.Row(next(c for c in perf.CONFIGS if c.key == "core5"), device, ROOT, Design())
+    assert plain.seeds == perf.SEEDS[:1]
+
+
+def test_status_lines():
+    rows = [_row("core3", "up5k", 46.3, critical={
+                "start": None, "start_name": "inner.a[1]", "end": None, "end_name": "inner.b",
+                "delay_ns": 21.6, "logic_levels": 25}),
+            _row("core3", "hx8k", 105.0), _row("top_wb", "ecp5", 120.0),
+            _row("core5", "up5k", 30.0)]
+    text = perf.status(rows, "2026-01-02")
+    assert "on 2026-01-02" in text
+    assert "core, N = 3, iCE40 UP5K: 46.3 MHz (min 45.3) against 48.0: MISSED by 3.5%\n" in text
+    assert "core, N = 3, iCE40 HX8K: 105.0 MHz (min 104.0) against 100.0: met, 5.0% above" in text
+    assert "MISSED by 7.7% (more than 5 %)" in text
+    assert ("limiting path of core, N = 3, iCE40 UP5K: from a[1] (?) to b (?), 25 logic steps"
+            in text)
+    assert "N = 5" not in text
+
+
 def test_table_without_notes():
-    text = perf.table([_row("top_wb", "hx8k", 89.9)], "v")
+    text = perf.table([_row("top_wb", "hx8k", 89.9)], "v", "d")
     assert "90 (MISSED)" in text and "\u00b9" not in text and "\u00b2" not in text
     assert "synth_ecp5" not in text
 
@@ -179,7 +256,8 @@ def _widths(ports, skip):
     return inputs, outputs
 
 
-@pytest.mark.parametrize("config", [c for c in perf.CONFIGS if c.key != "core5"],
+@pytest.mark.parametrize("config", [c for c in perf.CONFIGS if c.key not in ("core5", "core6",
+                                                                             "core9")],
                          ids=lambda c: c.key)
 def test_wrapper_feeds_every_port_bit(config):
     # the design as its drop-in file has it: every port with its width (a View by its bits:
