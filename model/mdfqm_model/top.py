@@ -88,9 +88,11 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   after the latch is set (two after the tripping start ``s``: ``s + 2``), and the taken enable
   cleared; ``CMD.WATCHDOG_CLEAR`` clears it (gates resume at the next update boundary with
   ``CTRL.ENABLE``), after which the count starts again from 0.
-- ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= min(elapsed + 1, 2**17 - 1)``;
+- ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= (elapsed + 1) mod 2**16``;
   ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
   ``s`` the update start, and there is none when ``ADC_OFFSET >= P`` (the update period).
+  The count never wraps: an update lasts ``P <= 65535`` clocks (PERIOD is 16 bits and every
+  minimum period is below it), so ``elapsed <= 65534``.
 """
 
 from __future__ import annotations
@@ -521,7 +523,7 @@ class TopModel:
             self.core_mode_clamped = int(latch_mode(self.mode_request, self.bits_request, 0)[2])
         # ADC trigger
         elapsed = 0 if core_out["start"] else self.adc_cnt
-        self.adc_cnt = min(elapsed + 1, (1 << ADC_COUNTER_WIDTH) - 1)
+        self.adc_cnt = (elapsed + 1) % (1 << ADC_COUNTER_WIDTH)
         self.adc = int(elapsed == self.adc_offset)
         # the bus (a write-1-to-clear of IRQ_STATUS loses against an event of the same clock)
         self.irq = int(bool(self.irq_status & self.irq_enable))   # this clock's registers

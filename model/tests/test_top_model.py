@@ -204,19 +204,22 @@ def test_counters_wrap_at_32_bits():
     assert m.events == [0, (1 << 32) - 1, 0] and m.total == 0
 
 
+# (65535, 65534): the longest update's last count pulses, in the clock of the next start (the
+# count never needs a 17th bit or a saturation)
 @pytest.mark.parametrize(("period", "offset"), [(20, 0), (20, 5), (20, 19), (20, 20),
-                                                (20, 65535), (0, 3)])
+                                                (20, 65535), (0, 3), (65535, 65534)])
 def test_adc_trigger_at_start_plus_one_plus_offset(period, offset):
     m = TopModel(3, 16, dead_min=2)
     bus = Master(m)
     bus.write(regs.PERIOD, period)
     bus.write(regs.ADC_OFFSET, offset)
-    outs = bus.run(200)
+    cycles = max(200, 2 * period + 100)
+    outs = bus.run(cycles)
     starts = [t for t, o in enumerate(outs) if o["sync_out"]]
     p = max(period, m.latency)
     assert set(np.diff(starts[1:])) == {p}
     adc = [t for t, o in enumerate(outs) if o["adc_trigger"]]
-    want = [s + 1 + offset for s in starts if offset < p and s + 1 + offset < 200]
+    want = [s + 1 + offset for s in starts if offset < p and s + 1 + offset < cycles]
     assert [t for t in adc if t > starts[1]] == [t for t in want if t > starts[1]]
 
 

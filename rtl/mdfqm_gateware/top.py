@@ -227,7 +227,7 @@ class MdfqmTop(wiring.Component):
         wd_trips = Signal(16)
         reaction_fault = Signal(2)
         reaction_watchdog = Signal(2)
-        adc_top = (1 << regmap.ADC_COUNTER_WIDTH) - 1
+        # no saturation: every update ends before the count could wrap (ADC_COUNTER_WIDTH)
         adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
         # ---------------------------------------------------------------- register port
@@ -393,7 +393,7 @@ class MdfqmTop(wiring.Component):
         elapsed = Signal(regmap.ADC_COUNTER_WIDTH)
         m.d.comb += elapsed.eq(Mux(core.start, 0, adc_cnt))
         m.d.sync += [
-            adc_cnt.eq(Mux(elapsed == adc_top, adc_top, elapsed + 1)),
+            adc_cnt.eq(elapsed + 1),
             self.adc_trigger.eq(elapsed == adc_offset),
         ]
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mdfqm_spec.contract import RULES, modes_built_in
+from mdfqm_spec.contract import PERIOD_WIDTH, RULES, modes_built_in
 
 from . import regmap_top as _top
 from .regmap_top import *  # noqa: F403 -- the top's word addresses and field masks
@@ -149,7 +149,9 @@ ID_VALUE = TOP["ID"].fields[0].reset
 COUNTER_WIDTH = PARAMETERS["counter_width"]
 #: the drop-in configuration's dead-time floor in clocks: 0.64 us at 100 MHz, 1.33 us at 48 MHz
 DEFAULT_DEAD_MIN = PARAMETERS["dead_min"]
-ADC_COUNTER_WIDTH = 17          # > 16 bits: it saturates above every ADC_OFFSET
+#: the ADC trigger's count from each update start: it never wraps, since every update (PERIOD,
+#: and every minimum period, below 2**16) ends before 2**16 clocks
+ADC_COUNTER_WIDTH = PERIOD_WIDTH
 #: where the demo's bus puts the demo's own window
 DEMO_BASE = 0x100
 
