@@ -116,6 +116,24 @@ def first_slot_codes(rng, contract, phases, bits, leg):
     return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
 
 
+def half_way_codes(rng, contract, phases, bits):
+    """A beat whose ``svpwm`` instants, from an empty integrator, sit exactly half-way between
+    two slot boundaries (the contract rounds them half up). From empty integrators
+    ``rho_0 - rho_{N-1} = N (c_max - c_min)`` and ``2 C_1 = NF - N (c_max - c_min)``, so
+    ``2 C_1 S + NF`` is an odd multiple of ``NF`` exactly when ``c_max - c_min`` is an odd
+    multiple of ``FULL / S``; each later instant adds ``2 N`` times a gap, a whole number of
+    slots when the gap is a multiple of ``FULL / S``. So: the smallest and the largest code an
+    odd number of ``FULL / S`` apart, the others on that grid between them."""
+    b = min(bits, contract.width - 2)
+    unit = contract.full >> b
+    span = unit * rng.randrange(1, max(2, min(1 << b, contract.full // unit)), 2)
+    low = rng.randint(contract.code_min, contract.code_max - span)
+    codes = [low, low + span] + [low + span - unit * rng.randint(0, span // unit)
+                                 for _ in range(phases - 2)]
+    rng.shuffle(codes)
+    return codes
+
+
 def tie_codes(rng, contract, phases):
     """A beat on which two ``largest_duty`` candidates tie for the largest (sort2's
     smallest-position rule decides). From an empty integrator, with ``g_j`` the gaps between
@@ -542,8 +560,9 @@ class SyncAtPowersOfTwo(GeneratorSequence):
 
 class FirstUpdateFromReset(GeneratorSequence):
     """Short trials from reset: from empty integrators the first update's instants sit
-    exactly on the quantiser's decision boundaries (every beat on the half-slot grid) and the
-    duty sort's ties; each mode at its shortest periods (svpwm twice as often), 3 in 4
+    exactly on the quantiser's decision boundaries (every beat on the half-slot grid; every
+    other svpwm beat with each instant exactly half-way between slots, where the rounding goes
+    up) and the duty sort's ties; each mode at its shortest periods (svpwm twice as often), 3 in 4
     slot-mode trials ending with MDFQM updates (the fewest-transitions zero state after a
     layout); every other trial a dpwm0 one whose beat turns a chosen leg on at the first slot
     boundary (its b and leg in turn); MDFQM trials on a beat whose largest candidates tie."""
@@ -558,7 +577,7 @@ class FirstUpdateFromReset(GeneratorSequence):
         bins = [f"first beat into {m}" for m in MODES]
         bins += [f"dpwm0 leg {leg} on at the first slot boundary"
                  for leg in range(min(run.contract.phases, run.cycles // 1500))]
-        bins += ["MDFQM after the layout"]
+        bins += ["MDFQM after the layout", "svpwm instants half-way between slots"]
         return {cls.POINT: tuple(bins)}
 
     def body(self):
@@ -582,9 +601,12 @@ class FirstUpdateFromReset(GeneratorSequence):
             leg = legs[0] if legs else turn // len(run.bits_choices) % c.phases
             run.rst = 1
             run.trial = ("first slot", leg) if first_slot else ("mode", mode)
+            half_way = mode == MODES.index("svpwm") and rng.random() < 0.5
+            run.trial = ("half way", mode) if half_way else run.trial
             run.stream.offer(first_slot_codes(rng, c, c.phases, bits, leg) if first_slot
                              else tie_codes(rng, c, c.phases)
                              if mode == 0 and model.rule == "largest_duty"
+                             else half_way_codes(rng, c, c.phases, bits) if half_way
                              else boundary_codes(rng, c, c.phases, bits), "first")
             yield
             starts = rng.randint(2, 3)
@@ -781,7 +803,7 @@ class GeneratorRun(Waits):
         if mode == 0 and m.prev_bbit:
             self.hit(handover, "MDFQM after a layout, fewest transitions" if s["policy"]
                      else "MDFQM after a layout, all-off")
-            if self.trial and self.trial[0] == "mode":
+            if self.trial and self.trial[0] != "first slot":
                 self.hit(FirstUpdateFromReset.POINT, "MDFQM after the layout")
         if mode and not m.prev_bbit and m.mode_lat == 0:
             self.hit(handover, "a layout after MDFQM")
@@ -796,7 +818,9 @@ class GeneratorRun(Waits):
         if self.stream.label == "first" and self.trial is not None and not any(m.x):
             kind, which = self.trial
             self.hit(FirstUpdateFromReset.POINT,
-                     f"first beat into {MODES[which] if kind == 'mode' else 'dpwm0'}")
+                     f"first beat into {MODES[which] if kind != 'first slot' else 'dpwm0'}")
+            if kind == "half way":
+                self.hit(FirstUpdateFromReset.POINT, "svpwm instants half-way between slots")
             self.first_layout = kind == "first slot"
 
     def _after(self) -> None:
