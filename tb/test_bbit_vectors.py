@@ -15,7 +15,13 @@ from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec.contract import Contract
 from mdfqm_testkit import spec_trace
-from mdfqm_testkit.bbit_stimulus import LIMITS_CYCLES, SCENARIOS, generate, tie_codes
+from mdfqm_testkit.bbit_stimulus import (
+    LIMITS_CYCLES,
+    SCENARIOS,
+    generate,
+    half_way_codes,
+    tie_codes,
+)
 from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.vectors import Tally, VectorBench
 
@@ -92,3 +98,23 @@ def test_tie_codes_tie_the_largest_candidates(phases):
         rho, _ = sort1(remove_common_mode(codes, phases))
         values = candidates(rho, contract, "largest_duty")
         assert values.count(max(values)) >= 2, (codes, values)
+
+
+@pytest.mark.parametrize("phases", [3, 5])
+@pytest.mark.parametrize("bits", [1, 3, 6, 8])
+def test_half_way_codes_put_every_svpwm_instant_half_way(phases, bits):
+    """The ``boundaries`` scenario's half-way svpwm beats: from an empty integrator every
+    cumulative instant of docs/contract.md, ``2 C_j S / (2 NF)`` slots (``2 C_1 = NF - rho_0 +
+    rho_{N-1}`` at gamma 1/2, then ``+ 2 (rho_{j-1} - rho_j)``), is a whole number of slots
+    and a half, and every code is in range."""
+    contract = Contract(phases, 16)
+    nf, slots = contract.unit, 1 << bits
+    rng = random.Random(phases * 100 + bits)
+    for _ in range(300):
+        codes = half_way_codes(rng, contract, phases, bits)
+        assert all(contract.code_min <= c <= contract.code_max for c in codes), codes
+        rho, _ = sort1(remove_common_mode(codes, phases))
+        two_c = [nf - rho[0] + rho[-1]]
+        for j in range(1, phases):
+            two_c.append(two_c[-1] + 2 * (rho[j - 1] - rho[j]))
+        assert all((c * slots) % (2 * nf) == nf for c in two_c), (codes, two_c)
