@@ -110,9 +110,9 @@ class LegDriver(wiring.Component):
         # the decisions of a clock are flags computed in the clock before (the Fmax path)
         dead_seen = Signal(tw, reset_less=True)
         min_pulse_seen = Signal(tw, reset_less=True)
-        # clocks in the present on/off state plus one (the model's cnt + 1), saturating at
-        # 2**tw, and what it becomes next clock if the state holds
-        count = Signal(tw + 1, init=1)
+        # what the count of clocks in the present on/off state plus one (the model's cnt + 1,
+        # saturating at 2**tw) becomes next clock if the state holds: the decisions need only
+        # this one; the count itself is the proofs' (built with formal=True only)
         count_next = Signal(tw + 1, init=2)
         dt_run = Signal(tw, reset_less=True)
         # registered decisions: count >= max(dt_run, dead_seen, dead_min), count < min_pulse_seen
@@ -156,7 +156,6 @@ class LegDriver(wiring.Component):
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
             self.event.eq(~on & (nxt_up | nxt_lo)),
-            count.eq(Mux(restart, 1, count_next)),
             count_next.eq(Mux(restart, 2, Mux(count_next == top + 1, top + 1, count_next + 1))),
             dead_elapsed.eq(Mux(restart, elapsed_restart, elapsed_hold)),
             pulse_short.eq(Mux(restart, short_restart, short_hold)),
@@ -167,6 +166,8 @@ class LegDriver(wiring.Component):
             m.d.sync += dt_run.eq(dt)
 
         if self.formal:
+            count = Signal(tw + 1, init=1)
+            m.d.sync += count.eq(Mux(restart, 1, count_next))
             self._properties(m, on, dt, (count - 1)[:tw], dt_run, (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
             # soon as any of its inputs changes, before a comb signal has followed
