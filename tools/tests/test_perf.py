@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """tools/perf.py without place and route: the design list follows the drop-in files, the table
 puts met / MISSED right, the serial wrapper feeds every port bit of a design, the worst path is
 read from nextpnr's report."""
@@ -295,3 +296,25 @@ def test_replace_block(tmp_path):
     readme.write_text("a\n<!-- perf:begin -->\nold\n<!-- perf:end -->\nb\n")
     perf.replace_block(readme, "perf", "new\n")
     assert readme.read_text() == "a\n<!-- perf:begin -->\nnew\n<!-- perf:end -->\nb\n"
+
+
+def test_area_table_differences_to_the_full_top():
+    device = next(d for d in perf.DEVICES if d.key == perf.AREA_DEVICE)
+    rows = [{"key": "full", "what": "full", "luts": 2000, "ffs": 1500, "carry": 900, "dsp": 3},
+            {"key": "b0", "what": "max_bits 0", "luts": 1400, "ffs": 1100, "carry": 600,
+             "dsp": 3}]
+    text = perf.area_table(rows, device, "v", "2026-01-02")
+    cells = [_cells(line) for line in text.splitlines() if line.startswith("| ")]
+    assert cells[0] == ["top", "LUT4", "FF", "carry", "DSP", "LUT4 vs the first",
+                        "FF vs the first"]
+    assert cells[1][-2:] == ["+0", "+0"] and cells[2][-2:] == ["-600", "-400"]
+    assert "on 2026-01-02" in text and "`synth_ice40 -dsp`" in text
+
+
+def test_area_variants_change_one_parameter_each():
+    assert perf.VARIANTS[0].changes == {}
+    assert all(len(v.changes) == 1 for v in perf.VARIANTS[1:])
+    assert len({v.key for v in perf.VARIANTS}) == len(perf.VARIANTS)
+    # each one builds (a bad parameter would be refused at elaboration)
+    for variant in perf.VARIANTS:
+        perf.MdfqmTop(**{"phases": 3, "width": 16, "max_bits": 8, **variant.changes})
