@@ -123,17 +123,23 @@ class LegDriver(wiring.Component):
         nxt_up, nxt_lo = Signal(), Signal()
         m.d.comb += self.in_min_pulse.eq(pulse_short)
 
-        on = self.upper | self.lower
-        m.d.comb += dt.eq(dt_expr)
+        # the terms used in several places are signals, each one net (an expression would be
+        # elaborated once per use)
+        on = Signal()
+        m.d.comb += [on.eq(self.upper | self.lower), dt.eq(dt_expr)]
         # the next state while driven, written flat (the Fmax path runs from ``drive`` through
         # ``restart`` into the counters): an on switch is kept while commanded or inside its
         # minimum pulse, else turned off; from off, the commanded switch turns on once the dead
         # time has elapsed
-        keep = (self.upper & self.cmd) | (self.lower & ~self.cmd) | pulse_short
+        keep = Signal()
+        m.d.comb += keep.eq((self.upper & self.cmd) | (self.lower & ~self.cmd) | pulse_short)
         # an active short circuit: only its switch is kept, or turned on after the dead time
         asc_lo, asc_hi = (self.asc_lo, self.asc_hi) if self.asc else (C(0, 1), C(0, 1))
-        asc = asc_lo | asc_hi
-        asc_keep = (self.upper & asc_hi) | (self.lower & asc_lo)
+        asc, asc_keep = Signal(), Signal()
+        m.d.comb += [
+            asc.eq(asc_lo | asc_hi),
+            asc_keep.eq((self.upper & asc_hi) | (self.lower & asc_lo)),
+        ]
         m.d.comb += [
             nxt_up.eq(Mux(asc, asc_hi & Mux(on, self.upper, dead_elapsed),
                           self.drive & Mux(on, self.upper & keep, dead_elapsed & self.cmd))),
@@ -141,8 +147,9 @@ class LegDriver(wiring.Component):
                           self.drive & Mux(on, self.lower & keep, dead_elapsed & ~self.cmd))),
         ]
         # the next clock starts a new state (count 1): the on/off state changes
-        restart = rst | Mux(asc, Mux(on, ~asc_keep, dead_elapsed),
-                            Mux(self.drive, Mux(on, ~keep, dead_elapsed), on))
+        restart = Signal()
+        m.d.comb += restart.eq(rst | Mux(asc, Mux(on, ~asc_keep, dead_elapsed),
+                                         Mux(self.drive, Mux(on, ~keep, dead_elapsed), on)))
 
         def decisions(c):
             """(dead_elapsed, pulse_short) of the next clock if its count is ``c``: dt_run
@@ -168,7 +175,8 @@ class LegDriver(wiring.Component):
         if self.formal:
             count = Signal(tw + 1, init=1)
             m.d.sync += count.eq(Mux(restart, 1, count_next))
-            self._properties(m, on, dt, (count - 1)[:tw], dt_run, (asc_lo, asc_hi))
+            self._properties(m, self.upper | self.lower, dt, (count - 1)[:tw], dt_run,
+                             (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
             # soon as any of its inputs changes, before a comb signal has followed
             self._invariants(m, dt_expr, count, count_next, dt_run, dead_elapsed, pulse_short,

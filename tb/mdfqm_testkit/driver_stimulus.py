@@ -22,6 +22,14 @@ REACTION_BINS_ALL_OFF = {("first", "fault", 0), ("first", "watchdog", 0), "asc_c
 INPUTS = DRIVER_INPUTS
 
 
+def long_times_cycles(time_width: int) -> int:
+    """Clocks of the ``long_times`` scenario: the legs disabled for longer than the counters'
+    saturation (``2**time_width`` clocks), then enabled through a minimum pulse and a dead time
+    of up to ``2**time_width - 1`` clocks each."""
+    span = 1 << time_width
+    return 2 * span + 3 * max(2, span >> 5) + 200
+
+
 class Stimulus:
     """A core-like source of update strobes plus the runtime settings of one scenario."""
 
@@ -258,6 +266,18 @@ def _generate(model, rng, scenario, p, cycles, hit):
             # change the dead time a few clocks after an update: inside running dead times
             if s.phase in (1, 2, 3, 5, 8) and rng.random() < 0.3:
                 s.dead = s.dead_choice()
+        elif scenario == "long_times":
+            # the widest settings: DEAD and MIN_PULSE up to 2**time_width - 1 and a state held
+            # past the counters' saturation: disabled for 2**time_width clocks and more (the
+            # dead time then long elapsed), enabled, every pulse stretched to the minimum pulse,
+            # every turn-on after the long dead time
+            span = s.top + 1
+            if cycle == 0:
+                s.period, s.enable = 10, 0
+                s.dead = rng.randint(span // 2, s.top)
+                s.min_pulse = rng.randint(max(2, span >> 6), max(2, span >> 5))
+            elif cycle == span + 50:
+                s.enable = 1
         elif scenario == "min_pulse" and cycle % 200 == 0:
             s.period = rng.choice([1, 2, 3, 4, 6, 9])
             s.dead = rng.choice([dead_min, 2, 3, 5])

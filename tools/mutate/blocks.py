@@ -15,6 +15,8 @@ import random
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from mdfqm_testkit.driver_stimulus import long_times_cycles
+
 __all__ = ["BLOCKS", "DRIVER", "DRIVER_SCENARIOS", "Block", "CocotbTest", "Run", "core_runs",
            "driver_runs", "generator_runs", "top_runs"]
 
@@ -91,8 +93,8 @@ DRIVER = {"phases": 3, "dead_min": 5, "time_width": 16, "upper_active_low": True
           "lower_active_low": False, "asc": True}
 #: tb/test_driver.py's cocotb tests, in their order, with their lengths
 DRIVER_SCENARIOS = (("random", 12000), ("fault_chatter", 4000), ("fault_in_dead_time", 3000),
-                    ("enable_mid_update", 3000), ("dead_change", 4000), ("min_pulse", 4000),
-                    ("fault_reaction", 8000))
+                    ("enable_mid_update", 3000), ("dead_change", 4000), ("fault_reaction", 8000),
+                    ("min_pulse", 4000), ("long_times", long_times_cycles(DRIVER["time_width"])))
 
 
 def driver_runs(seed: int) -> list[Run]:
