@@ -128,28 +128,26 @@ class LegDriver(wiring.Component):
         on = Signal()
         m.d.comb += [on.eq(self.upper | self.lower), dt.eq(dt_expr)]
         # the next state while driven, written flat (the Fmax path runs from ``drive`` through
-        # ``restart`` into the counters): an on switch is kept while commanded or inside its
-        # minimum pulse, else turned off; from off, the commanded switch turns on once the dead
-        # time has elapsed
+        # the next state and ``restart`` into the counters): an on switch is kept while
+        # commanded or inside its minimum pulse, else turned off; from off, the commanded switch
+        # turns on once the dead time has elapsed
         keep = Signal()
         m.d.comb += keep.eq((self.upper & self.cmd) | (self.lower & ~self.cmd) | pulse_short)
         # an active short circuit: only its switch is kept, or turned on after the dead time
         asc_lo, asc_hi = (self.asc_lo, self.asc_hi) if self.asc else (C(0, 1), C(0, 1))
-        asc, asc_keep = Signal(), Signal()
-        m.d.comb += [
-            asc.eq(asc_lo | asc_hi),
-            asc_keep.eq((self.upper & asc_hi) | (self.lower & asc_lo)),
-        ]
+        asc = Signal()
+        m.d.comb += asc.eq(asc_lo | asc_hi)
         m.d.comb += [
             nxt_up.eq(Mux(asc, asc_hi & Mux(on, self.upper, dead_elapsed),
                           self.drive & Mux(on, self.upper & keep, dead_elapsed & self.cmd))),
             nxt_lo.eq(Mux(asc, asc_lo & Mux(on, self.lower, dead_elapsed),
                           self.drive & Mux(on, self.lower & keep, dead_elapsed & ~self.cmd))),
         ]
-        # the next clock starts a new state (count 1): the on/off state changes
+        # the next clock starts a new state (count 1): the on/off state changes (a switch
+        # on in both clocks is the same switch: the two are never on together, and from
+        # one on to the other there is a clock of both off)
         restart = Signal()
-        m.d.comb += restart.eq(rst | Mux(asc, Mux(on, ~asc_keep, dead_elapsed),
-                                         Mux(self.drive, Mux(on, ~keep, dead_elapsed), on)))
+        m.d.comb += restart.eq(rst | (on ^ (nxt_up | nxt_lo)))
 
         def decisions(c):
             """(dead_elapsed, pulse_short) of the next clock if its count is ``c``: dt_run

@@ -22,12 +22,38 @@ REACTION_BINS_ALL_OFF = {("first", "fault", 0), ("first", "watchdog", 0), "asc_c
 INPUTS = DRIVER_INPUTS
 
 
+#: clocks of the long scenario after its rounds: the legs disabled past the counters'
+#: saturation (plus this), then enabled (this long)
+LONG_TAIL = (64, 200)
+
+
+def long_round(k: int) -> int:
+    """Clocks of round ``k`` of the ``long_times`` scenario: a minimum pulse and a dead time
+    of ``2**k`` to ``2**(k + 1) - 1`` clocks each, and room to turn on after them."""
+    return (4 << k) + 64
+
+
 def long_times_cycles(time_width: int) -> int:
-    """Clocks of the ``long_times`` scenario: the legs disabled for longer than the counters'
-    saturation (``2**time_width`` clocks), then enabled through a minimum pulse and a dead time
-    of up to ``2**time_width - 1`` clocks each."""
-    span = 1 << time_width
-    return 2 * span + 3 * max(2, span >> 5) + 200
+    """Clocks of the ``long_times`` scenario: one round per bit of the counters (the minimum
+    pulse and the dead time in that bit's octave), then the legs disabled for longer than the
+    counters' saturation (``2**time_width`` clocks) and enabled."""
+    return (sum(long_round(k) for k in range(time_width)) + (1 << time_width) + sum(LONG_TAIL))
+
+
+def long_times_schedule(rng, p) -> dict:
+    """The settings of the ``long_times`` scenario by the clock they take effect: (DEAD,
+    MIN_PULSE, enable). Rounds of rising octaves (a dead time in force is never shortened, so
+    the longest come last), then a dead time in the top octave with the legs disabled past the
+    counters' saturation, then enabled: every commanded switch on at once."""
+    width, top = p["time_width"], (1 << p["time_width"]) - 1
+    schedule, at = {}, 0
+    for k in range(width):
+        octave = (1 << k, min(top, (2 << k) - 1))
+        schedule[at] = (rng.randint(*octave), rng.randint(*octave), 1)
+        at += long_round(k)
+    schedule[at] = (rng.randint((top + 1) // 2, top), 0, 0)
+    schedule[at + (top + 1) + LONG_TAIL[0]] = (schedule[at][0], 0, 1)
+    return schedule
 
 
 class Stimulus:
@@ -267,17 +293,12 @@ def _generate(model, rng, scenario, p, cycles, hit):
             if s.phase in (1, 2, 3, 5, 8) and rng.random() < 0.3:
                 s.dead = s.dead_choice()
         elif scenario == "long_times":
-            # the widest settings: DEAD and MIN_PULSE up to 2**time_width - 1 and a state held
-            # past the counters' saturation: disabled for 2**time_width clocks and more (the
-            # dead time then long elapsed), enabled, every pulse stretched to the minimum pulse,
-            # every turn-on after the long dead time
-            span = s.top + 1
+            # the widest settings, DEAD and MIN_PULSE in every octave up to 2**time_width - 1,
+            # and a state held past the counters' saturation (long_times_schedule)
             if cycle == 0:
-                s.period, s.enable = 10, 0
-                s.dead = rng.randint(span // 2, s.top)
-                s.min_pulse = rng.randint(max(2, span >> 6), max(2, span >> 5))
-            elif cycle == span + 50:
-                s.enable = 1
+                s.period, schedule = 10, long_times_schedule(rng, p)
+            if cycle in schedule:
+                s.dead, s.min_pulse, s.enable = schedule[cycle]
         elif scenario == "min_pulse" and cycle % 200 == 0:
             s.period = rng.choice([1, 2, 3, 4, 6, 9])
             s.dead = rng.choice([dead_min, 2, 3, 5])
