@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from mdfqm_spec import regmap as regs
-from mdfqm_spec.contract import MODES
+from mdfqm_spec.contract import MODES, min_period
 from mdfqm_testkit.coverage import bands
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Sequence, doc, rdl, robustness
@@ -138,22 +138,55 @@ class PeriodBands(TopSequence):
         run.nominal[regs.PERIOD] = value
 
 
+def slot_minimums(model) -> dict[int, list[int]]:
+    """The slot modes' minimum periods above the loop latency, each with the b that have it
+    (docs/contract.md: ``max(L_b, 2**b)``)."""
+    found: dict[int, list[int]] = {}
+    for b in range(1, model.max_bits + 1):
+        low = min_period(True, b, model.latency, model.long_latency)
+        if low > model.latency:
+            found.setdefault(low, []).append(b)
+    return found
+
+
 class PeriodBelowLatency(TopSequence):
-    """PERIOD below the loop latency (0 .. L-1), and below a slot mode's minimum: used as the
+    """PERIOD below the loop latency (0 .. L-1), and below a slot mode's minimum (at each
+    minimum the slot modes have: between L and it, one below it half the time): used as the
     minimum, STATUS.PERIOD_CLAMPED set for that update, read back."""
 
     rules = (robustness("update period below the loop latency"),
              rdl("STATUS.PERIOD_CLAMPED"))
-    claims = frozenset({PERIOD})
+    claims = frozenset({PERIOD, MODULATION})
     POINT = "PERIOD below the minimum of the update"
+
+    @staticmethod
+    def slot_bin(minimum: int) -> str:
+        return f"in a slot mode, between L and its minimum {minimum}"
 
     @classmethod
     def coverpoints(cls, run):
         bins = ("0", "1..L-1", "STATUS.PERIOD_CLAMPED read 1")
-        return {cls.POINT: bins + (("in a slot mode",) if run.model.max_bits else ())}
+        if run.model.max_bits:
+            bins += ("in a slot mode",
+                     *(cls.slot_bin(v) for v in slot_minimums(run.model)))
+        return {cls.POINT: bins}
 
     def body(self):
         run, rng = self.run, self.rng
+        minimums = slot_minimums(run.model) if run.model.max_bits else {}
+        open_ = [v for v in minimums if self.slot_bin(v) in run.coverage.open_bins(self.POINT)]
+        if open_ or (minimums and rng.random() < 0.3):
+            low = rng.choice(open_ or list(minimums))
+            value = rng.choice([low - 1, rng.randint(run.model.latency, low - 1)])
+            word = run.modulation_word(legal=True, mode=rng.randint(1, len(MODES) - 1),
+                                       bits=rng.choice(minimums[low]))
+            yield from run.settle(run.write(regs.MODULATION, word), run.write(regs.PERIOD, value))
+            yield from run.updates(2)
+            yield from run.settle(run.read(regs.STATUS),
+                                  run.restore(regs.PERIOD, regs.MODULATION))
+            yield from run.updates(1)
+            yield from run.settle(run.read(regs.STATUS))
+            return
         value = rng.choice([0, rng.randrange(1, run.model.latency)])
         yield from run.settle(run.write(regs.PERIOD, value))
         yield from run.updates(2)

@@ -26,7 +26,7 @@ from mdfqm_model.top import TopModel
 from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.bus import mapped_words
-from mdfqm_spec.contract import MODES, latch_mode
+from mdfqm_spec.contract import MODES, latch_mode, min_period
 from mdfqm_testkit import top_sequences as seq
 from mdfqm_testkit.bbit_stimulus import boundary_codes, tie_codes
 from mdfqm_testkit.bus_masters import MASTERS, Access
@@ -772,6 +772,9 @@ class Monitor:
                     self.hit(point, "1..L-1")
                 if getattr(core, "mode_lat", 0):
                     self.hit(point, "in a slot mode")
+                    low = min_period(True, core.bits_lat, m.latency, m.long_latency)
+                    if m.latency <= facts["period"] < low:
+                        self.hit(point, seq.PeriodBelowLatency.slot_bin(low))
             else:
                 self.hit(seq.PeriodBands.POINT, band(facts["period"], self.period_edges))
             mode = getattr(core, "mode_lat", 0)
