@@ -161,7 +161,8 @@ class LegDriver(wiring.Component):
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
             self.event.eq(~on & (nxt_up | nxt_lo)),
-            count_next.eq(Mux(restart, 2, Mux(count_next == top + 1, top + 1, count_next + 1))),
+            # saturated at top + 1 = 2**tw, the only value with bit tw set
+            count_next.eq(Mux(restart, 2, Mux(count_next[tw], top + 1, count_next + 1))),
             dead_elapsed.eq(Mux(restart, elapsed_restart, elapsed_hold)),
             pulse_short.eq(Mux(restart, short_restart, short_hold)),
             dead_seen.eq(self.dead),
