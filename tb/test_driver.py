@@ -100,10 +100,10 @@ async def driver_min_pulse(dut):
 
 @cocotb.test()
 async def driver_long_times(dut):
-    """DEAD and MIN_PULSE near 2**time_width - 1, and the legs disabled for longer than the
-    counters saturate: enabled, the commanded switches turn on at once; every later pulse is
-    stretched to the minimum pulse and every turn-on waits the long dead time. Last: the long
-    dead time stays in force after it (it is never shortened)."""
+    """DEAD and MIN_PULSE in every octave up to 2**time_width - 1 (pulses stretched to the
+    minimum pulse, turn-ons after the dead time), then the legs disabled for longer than the
+    counters saturate and enabled: the commanded switches turn on at once. Last: the long dead
+    time stays in force after it (it is never shortened)."""
     await run_scenario(dut, "long_times", long_times_cycles(params()["time_width"]))
 
 
