@@ -120,9 +120,10 @@ def half_way_codes(rng, contract, phases, bits):
     """A beat whose ``svpwm`` instants, from an empty integrator, sit exactly half-way between
     two slot boundaries (the contract rounds them half up). From empty integrators
     ``rho_0 - rho_{N-1} = N (c_max - c_min)`` and ``2 C_1 = NF - N (c_max - c_min)``, so
-    ``2 C_1 S + NF`` is an odd multiple of ``NF`` exactly when ``c_max - c_min`` is an odd
-    multiple of ``FULL / S``; each later instant adds ``2 N`` times a gap, a whole number of
-    slots when the gap is a multiple of ``FULL / S``. So: the smallest and the largest code an
+    the instant ``2 C_1 S / (2 NF)`` is a whole number of slots and a half (``2 C_1 S`` an odd
+    multiple of ``NF``) exactly when ``c_max - c_min`` is an odd multiple of ``FULL / S``; each
+    later instant adds ``2 N`` times a gap, a whole number of slots when the gap is a multiple
+    of ``FULL / S``. So: the smallest and the largest code an
     odd number of ``FULL / S`` apart, the others on that grid between them."""
     b = min(bits, contract.width - 2)
     unit = contract.full >> b
