@@ -401,7 +401,10 @@ class Handover(GeneratorSequence):
                                  limit=run.cycles)
             s["mode"] = rng.choice([0, 0, 0, 1, 2, 3, 4])
             s["bits"] = rng.choice([1, 1, 2, rng.randint(3, run.model.max_bits)])
-            s["policy"] = int(rng.random() < 0.8)
+            # mostly the fewest-transitions zero state, all-off while its bin is open
+            open_ = run.coverage.open_bins(self.POINT)
+            s["policy"] = int("MDFQM after a layout, all-off" not in open_
+                              and rng.random() < 0.8)
             s["period"] = rng.choice([0, model.long_latency, model.long_latency + 3])
             run.stream.amplitude = rng.uniform(0.0, 0.4) * run.linear
 
@@ -559,6 +562,10 @@ class SyncAtPowersOfTwo(GeneratorSequence):
             yield
 
 
+#: the coverage bin of a first update whose svpwm instants sit half-way between slots
+HALF_WAY = "svpwm instants half-way between slots"
+
+
 class FirstUpdateFromReset(GeneratorSequence):
     """Short trials from reset: from empty integrators the first update's instants sit
     exactly on the quantiser's decision boundaries (every beat on the half-slot grid; every
@@ -578,7 +585,7 @@ class FirstUpdateFromReset(GeneratorSequence):
         bins = [f"first beat into {m}" for m in MODES]
         bins += [f"dpwm0 leg {leg} on at the first slot boundary"
                  for leg in range(min(run.contract.phases, run.cycles // 1500))]
-        bins += ["MDFQM after the layout", "svpwm instants half-way between slots"]
+        bins += ["MDFQM after the layout", HALF_WAY]
         return {cls.POINT: tuple(bins)}
 
     def body(self):
@@ -592,6 +599,11 @@ class FirstUpdateFromReset(GeneratorSequence):
                      run.coverage.open_bins(self.POINT)]
             mode = DPWM0 if first_slot else MODES.index(rng.choice(tried)) if tried else (
                 rng.choice([0, 1, 1, 1, 1, 2, 2, 3, 3, 4, 4]))
+            svpwm = MODES.index("svpwm")
+            half_open = HALF_WAY in run.coverage.open_bins(self.POINT)
+            if half_open and not first_slot and not tried:
+                mode = svpwm        # the half-way trial aimed while its bin is open
+            half_way = mode == svpwm and (half_open or rng.random() < 0.5)
             bits = (run.bits_choices[turn % len(run.bits_choices)] if first_slot
                     else rng.choice(run.bits_choices))
             s.update(mode=mode, bits=bits, period=_period_for(rng, model, mode, bits), osr=1,
@@ -602,7 +614,6 @@ class FirstUpdateFromReset(GeneratorSequence):
             leg = legs[0] if legs else turn // len(run.bits_choices) % c.phases
             run.rst = 1
             run.trial = ("first slot", leg) if first_slot else ("mode", mode)
-            half_way = mode == MODES.index("svpwm") and rng.random() < 0.5
             run.trial = ("half way", mode) if half_way else run.trial
             run.stream.offer(first_slot_codes(rng, c, c.phases, bits, leg) if first_slot
                              else tie_codes(rng, c, c.phases)
@@ -821,7 +832,7 @@ class GeneratorRun(Waits):
             self.hit(FirstUpdateFromReset.POINT,
                      f"first beat into {MODES[which] if kind != 'first slot' else 'dpwm0'}")
             if kind == "half way":
-                self.hit(FirstUpdateFromReset.POINT, "svpwm instants half-way between slots")
+                self.hit(FirstUpdateFromReset.POINT, HALF_WAY)
             self.first_layout = kind == "first slot"
 
     def _after(self) -> None:
