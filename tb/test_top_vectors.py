@@ -18,14 +18,14 @@ from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.contract import MODES
 from mdfqm_testkit import spec_trace
 from mdfqm_testkit.coverage import Coverage
-from mdfqm_testkit.top_stimulus import top_stimulus
+from mdfqm_testkit.top_stimulus import FULL_TOP_RUNS, top_stimulus
 from mdfqm_testkit.vectors import VectorBench
 
-#: (name, top, runs x clocks): 150 000 + 60 000 + 50 000 + 40 000 + 2 x 30 000 = 360 000
-#: checked clocks; the first run long enough for an update of more than 32 768 clocks (the ADC
-#: offset's top band)
+#: (name, top, runs x clocks): 300 000 + 60 000 + 50 000 + 40 000 + 2 x 30 000 = 510 000
+#: checked clocks; the first run long enough for the top octaves of PERIOD, DEAD, MIN_PULSE and
+#: ADC_OFFSET
 CASES = [
-    ("wishbone_b8", lambda: MdfqmTop(3, 16, max_bits=8), (150_000, 60_000)),
+    ("wishbone_b8", lambda: MdfqmTop(3, 16, max_bits=8), FULL_TOP_RUNS),
     ("axi4lite_b3", lambda: MdfqmTop(3, 16, bus="axi4lite", max_bits=3), (50_000,)),
     ("mdfqm_only", lambda: MdfqmTop(3, 16, max_bits=0), (40_000,)),
     # a mixed pin polarity pair, both ways round (active-low upper drivers are common)

@@ -3,7 +3,8 @@
 This is the specification of :mod:`mdfqm_gateware.driver`; the gateware must produce every bit
 on every clock that :class:`GateDriverModel` predicts. ``step`` returns the outputs visible
 *during* a cycle (a function of the registers only, like :class:`mdfqm_model.clock.CoreModel`,
-except ``short_edge_now``, which also depends on that cycle's inputs), then advances the
+except ``short_edge_now`` and the two ``*_acted`` codes, which also depend on that cycle's
+inputs), then advances the
 registers with that cycle's inputs. ``rst`` is synchronous.
 
 One leg (:class:`LegModel`)
@@ -83,7 +84,9 @@ The N-leg driver (:class:`GateDriverModel`)
   a source *rises* in a cycle in which it is high and was low in the cycle before (registers
   ``fault_prev``, ``stop_prev``, reset 0: a source high in the first cycle after a reset rises).
   The inputs ``reaction_fault`` and ``reaction_watchdog`` (2 bits each) name each source's
-  reaction: 1 ASC low, 2 ASC high; 0, 3, and any value when ``asc`` is False, all off. The
+  reaction: 1 ASC low, 2 ASC high; 0, 3, and any value when ``asc`` is False, all off (the
+  outputs ``reaction_fault_acted`` and ``reaction_watchdog_acted``: each input as acted on, 0
+  for all off, in the same cycle; the top's ``FAULT_REACTION`` reads them back). The
   reaction *now* of a cycle:
 
   - 0 (all off) if neither source is high, or ``all_off`` (the CMD.ALL_OFF strobe) is high, or
@@ -132,7 +135,7 @@ DRIVER_INPUTS = ("rst", "h", "update", "enable", "dead", "min_pulse", "fault_in"
                  "stop", "reaction_fault", "reaction_watchdog", "all_off")
 #: per-cycle outputs of :meth:`GateDriverModel.step`
 DRIVER_OUTPUTS = ("upper", "lower", "event", "fault", "fault_input", "active", "short_edge",
-                  "short_edge_now", "reaction")
+                  "short_edge_now", "reaction", "reaction_fault_acted", "reaction_watchdog_acted")
 
 
 class LegModel:
@@ -330,6 +333,8 @@ class GateDriverModel:
         drive = int(en and not fault_active and not stop)
         short = self.short_edges(cmd, drive)
         out["short_edge_now"] = short
+        out["reaction_fault_acted"] = self.reaction_code(reaction_fault)
+        out["reaction_watchdog_acted"] = self.reaction_code(reaction_watchdog)
         now = self.reaction_now(int(bool(fault_active)), stop, reaction_fault,
                                 reaction_watchdog, all_off)
         leg_drive = int(drive and self.reaction == 0)

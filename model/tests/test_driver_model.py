@@ -51,7 +51,21 @@ def test_reset_state_all_off_with_polarity():
     m = GateDriverModel(3, 4, upper_active_low=True)
     o = m.step()
     assert o == {"upper": 0b111, "lower": 0, "event": 0, "fault": 0, "fault_input": 0, "active": 0,
-                 "short_edge": 0, "short_edge_now": 0, "reaction": 0}
+                 "short_edge": 0, "short_edge_now": 0, "reaction": 0, "reaction_fault_acted": 0,
+                 "reaction_watchdog_acted": 0}
+
+
+@pytest.mark.parametrize("asc", [True, False])
+def test_reaction_inputs_as_acted_on(asc):
+    """Each reaction input as the driver acts on it, in the same cycle: 1 and 2 as they are,
+    0 and 3 all off; every code all off without the active short circuit."""
+    m = GateDriverModel(3, 4, asc=asc)
+    for fault_code in range(4):
+        for watchdog_code in range(4):
+            o = m.step(reaction_fault=fault_code, reaction_watchdog=watchdog_code)
+            assert o["reaction_fault_acted"] == (fault_code if asc and fault_code in (1, 2) else 0)
+            assert o["reaction_watchdog_acted"] == (
+                watchdog_code if asc and watchdog_code in (1, 2) else 0)
 
 
 def test_first_turn_on_waits_the_dead_time_after_reset():

@@ -337,6 +337,10 @@ class GateDriver(wiring.Component):
     reaction : Out(2)
         The reaction in force (registered, reset 0): the one that decided this cycle's gates;
         0 all off or none, 1 ASC low, 2 ASC high.
+    reaction_fault_acted, reaction_watchdog_acted : Out(2)
+        Combinational: ``reaction_fault`` and ``reaction_watchdog`` as the driver acts on them
+        (1 and 2 as they are; 0 and 3, and every value when ``asc`` is False, 0). The top's
+        ``FAULT_REACTION`` reads them back.
 
     Parameters
     ----------
@@ -384,6 +388,8 @@ class GateDriver(wiring.Component):
             "up": Out(phases),
             "lo": Out(phases),
             "reaction": Out(2),
+            "reaction_fault_acted": Out(2),
+            "reaction_watchdog_acted": Out(2),
         })
 
     def elaborate(self, platform):
@@ -460,7 +466,9 @@ class GateDriver(wiring.Component):
             return now                      # all off only: nothing to latch
         fault_prev = Signal()
         stop_prev = Signal()
-        f, w = self._code(self.reaction_fault), self._code(self.reaction_watchdog)
+        f, w = self.reaction_fault_acted, self.reaction_watchdog_acted
+        m.d.comb += [f.eq(self._code(self.reaction_fault)),
+                     w.eq(self._code(self.reaction_watchdog))]
         rise_f = fault_active & ~fault_prev
         rise_w = self.stop & ~stop_prev
         kill = (~(fault_active | self.stop) | self.all_off | (rise_f & (f == 0))

@@ -263,10 +263,9 @@ class MdfqmTop(wiring.Component):
         with m.If(written(regmap.MODULATION)):
             m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
-        if self.asc:        # else both read 0: every reaction is all off; 3 stores 0 (v % 3)
+        if self.asc:        # else both read 0: every reaction is all off
             with m.If(written(regmap.FAULT_REACTION)):
-                m.d.sync += [reaction_fault.eq(Mux(word[0:2] == 3, 0, word[0:2])),
-                             reaction_watchdog.eq(Mux(word[2:4] == 3, 0, word[2:4]))]
+                m.d.sync += [reaction_fault.eq(word[0:2]), reaction_watchdog.eq(word[2:4])]
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
                 m.d.sync += ref_regs[i].eq(_saturate_code(word, c))
@@ -318,7 +317,9 @@ class MdfqmTop(wiring.Component):
             with m.Case(regmap.WATCHDOG_TRIPS):
                 m.d.comb += rd.eq(wd_trips)
             with m.Case(regmap.FAULT_REACTION):
-                m.d.comb += rd.eq(Cat(reaction_fault, reaction_watchdog))
+                # each field as the driver acts on it (3 reads 0): one decode for both
+                m.d.comb += rd.eq(Cat(driver.reaction_fault_acted,
+                                      driver.reaction_watchdog_acted))
             with m.Case(regmap.MODULATION):
                 m.d.comb += rd.eq((mode_in_force << regmap.MODULATION_MODE_SHIFT)
                                   | (bits_in_force << regmap.MODULATION_BITS_SHIFT))
@@ -399,8 +400,9 @@ class MdfqmTop(wiring.Component):
 
         if self.formal:
             self._properties(m, ctrl, dead, driver, (events, total, count_clear), irq_formal)
-            m.d.comb += Assert((reaction_fault != 3) & (reaction_watchdog != 3),
-                               "FAULT_REACTION holds a code that is no reaction")
+            m.d.comb += Assert((driver.reaction_fault_acted != 3)
+                               & (driver.reaction_watchdog_acted != 3),
+                               "FAULT_REACTION reads a code that is no reaction")
             self._watchdog_properties(m, core.start, arrival, wd_timeout, (wd_tripped, wd_quiet,
                                       wd_trips), (watchdog_clear, count_clear), driver)
             if self.max_bits:

@@ -12,7 +12,7 @@ from typing import ClassVar
 
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES, min_period
-from mdfqm_testkit.coverage import bands
+from mdfqm_testkit.coverage import band, bands
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Sequence, doc, rdl, robustness
 
@@ -38,10 +38,14 @@ IRQ_SOURCES = {"FAULT": regs.IRQ_FAULT, "COUNTER_WRAP": regs.IRQ_COUNTER_WRAP,
                "SAMPLE": regs.IRQ_SAMPLE, "SHORT_EDGE": regs.IRQ_SHORT_EDGE,
                "WATCHDOG": regs.IRQ_WATCHDOG}
 #: bands of the 16-bit PERIOD in force (the minimum of the update's mode below the first)
-PERIOD_EDGES = (0, 32, 256, 4096, 8192)
+PERIOD_EDGES = (0, 32, 256, 4096, 8192, 16384, 32768)
 #: run length from which PERIOD's bands from 4096 clocks are aimed at (their updates stall
 #: every sequence that waits for an update start)
 PERIOD_BAND_RUN = 100_000
+#: run length from which the top octaves of the 16-bit times are aimed at: PERIOD from 16384,
+#: DEAD and MIN_PULSE from 32768 (LongTimes: an update or a pulse of up to 65,535 clocks, a few
+#: times)
+LONG_TIMES_RUN = 300_000
 #: bands of the 16-bit ADC_OFFSET at which a trigger pulsed
 ADC_EDGES = (0, 1, 256, 4096, 8192, 32768)
 #: run length from which an update of each ADC band's length fits (its band's first offset,
@@ -51,7 +55,8 @@ ADC_BAND_RUN = {0: 0, 1: 0, 256: 0, 4096: 30_000, 8192: 50_000, 32768: 150_000}
 
 def period_edges(run) -> list[int]:
     """The bands of PERIOD aimed at in ``run``."""
-    return [e for e in PERIOD_EDGES if e < 4096 or run.cycles >= PERIOD_BAND_RUN]
+    return [e for e in PERIOD_EDGES if e < 4096 or (e < 16384 and run.cycles >= PERIOD_BAND_RUN)
+            or run.cycles >= LONG_TIMES_RUN]
 
 
 def adc_edges(run) -> list[int]:
@@ -470,6 +475,54 @@ class MinPulse(TopSequence):
         yield from run.until(lambda: run.coverage.covered(self.POINT, "stretched")
                              and rng.random() < 0.05, limit=8 * slot * 16 + 500)
         yield from run.settle(run.restore(regs.MIN_PULSE))
+
+
+class LongTimes(TopSequence):
+    """DEAD and MIN_PULSE in the high octaves of their 16-bit fields, where they decide the
+    gates: a turn-on after a dead time of DEAD clocks (the updates longer than it, in MDFQM, so
+    that a leg's command holds through its dead time), and a pulse held on to a MIN_PULSE of
+    more than 32,768 clocks; in runs long enough for a few such times."""
+
+    rules = (rdl("DEAD.DEAD"), rdl("MIN_PULSE.MIN_PULSE"), doc(TOP_MD, "Gate driver (per leg)"))
+    claims = frozenset({PERIOD, DEAD, MODULATION, SYNC})
+    DEAD_POINT = "DEAD in force at a turn-on"
+    PULSE_POINT = "a pulse stretched to a MIN_PULSE in"
+    #: the octaves aimed at: the dead time's compare and count in their high bits
+    DEAD_EDGES = (2048, 32768)
+    PULSE_EDGES = (32768,)
+
+    @classmethod
+    def applies(cls, run):
+        return run.cycles >= LONG_TIMES_RUN
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.DEAD_POINT: tuple(bands(cls.DEAD_EDGES)),
+                cls.PULSE_POINT: tuple(bands(cls.PULSE_EDGES))}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        open_dead = run.coverage.open_bins(self.DEAD_POINT)
+        if open_dead or (not run.coverage.open_bins(self.PULSE_POINT) and rng.random() < 0.5):
+            low = int(rng.choice(open_dead or bands(self.DEAD_EDGES)).split("..")[0])
+            dead = low + rng.randrange(min(low, 8000))
+            # MDFQM: one state an update, each update longer than the dead time
+            writes = [run.write(regs.MODULATION, run.modulation_word(mode=0)),
+                      run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
+                      run.write(regs.DEAD, dead)]
+            yield from run.settle(*writes)
+            yield from run.until(lambda: run.coverage.covered(self.DEAD_POINT,
+                                                              band(dead, self.DEAD_EDGES)),
+                                 limit=4 * (dead + 3000) + 1000)
+        else:
+            value = (1 << 15) + rng.randrange(4000)
+            yield from run.settle(run.write(regs.MIN_PULSE, value))
+            hit = yield from run.until(lambda: run.coverage.covered(
+                self.PULSE_POINT, band(value, self.PULSE_EDGES)), limit=3 * value)
+            if hit:                 # the stretched pulse held to its end
+                yield from run.wait(value + 100)
+        yield from run.settle(run.restore(regs.PERIOD, regs.DEAD, regs.MIN_PULSE,
+                                          regs.MODULATION))
 
 
 class ShortEdges(TopSequence):

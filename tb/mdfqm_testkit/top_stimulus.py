@@ -44,6 +44,9 @@ START_RATE = 0.05
 OPEN_BOOST = 8.0
 #: chance per idle bus clock of a background access
 BACKGROUND_RATE = 0.01
+#: the runs (clocks) of the full Wishbone top's regression (tb/test_top_vectors.py) and of its
+#: mutation campaign: the first long enough for every band of the 16-bit times
+FULL_TOP_RUNS = (seq.LONG_TIMES_RUN, 60_000)
 
 
 class Aim:
@@ -807,6 +810,12 @@ class Monitor:
                          else "swallowed by the dead time")
                 if named_on:
                     self.hit(seq.MinPulse.POINT, "stretched")
+                    if driver.min_pulse_seen >= seq.LongTimes.PULSE_EDGES[0]:
+                        self.hit(seq.LongTimes.PULSE_POINT,
+                                 band(driver.min_pulse_seen, seq.LongTimes.PULSE_EDGES))
+        if facts["turn_on"] and driver.dead_in_force >= seq.LongTimes.DEAD_EDGES[0]:
+            self.hit(seq.LongTimes.DEAD_POINT,
+                     band(driver.dead_in_force, seq.LongTimes.DEAD_EDGES))
         # interrupts
         new = m.irq_status & ~facts["irq_status"]
         for name, bit in seq.IRQ_SOURCES.items():

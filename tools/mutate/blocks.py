@@ -16,6 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mdfqm_testkit.driver_stimulus import long_times_cycles
+from mdfqm_testkit.top_stimulus import FULL_TOP_RUNS
 
 __all__ = ["BLOCKS", "DRIVER", "DRIVER_SCENARIOS", "Block", "CocotbTest", "Run", "core_runs",
            "driver_runs", "generator_runs", "top_runs"]
@@ -186,7 +187,7 @@ def _blocks() -> dict[str, Block]:
               driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
         Block("top_wb", "top, Wishbone (MdfqmTop, the drop-in mdfqm_top_n3_w16)", "mdfqm_top",
               lambda formal: MdfqmTop(3, 16, formal=formal),
-              top_runs("wishbone", (150_000, 60_000)), _top_tests("wishbone"), depth),
+              top_runs("wishbone", FULL_TOP_RUNS), _top_tests("wishbone"), depth),
         # the AXI4-Lite top's own logic: its front, the register file, counters, watchdog; the
         # core and the driver inside are the Wishbone top's netlist, measured there
         Block("top_axi", "top, AXI4-Lite (MdfqmTop bus=axi4lite, mdfqm_top_axil_n3_w16; "
