@@ -509,9 +509,12 @@ class SettingsAtTheirLimits(GeneratorSequence):
             short_first = any(b != "period 65535 in a slot mode" for b in open_)
             if not run.holding:      # the largest period is held until an update takes it
                 room = run.cycles - run.cycle - 2 * model.long_latency
+                short = 4 * model.long_latency
+                if SyncAtPowersOfTwo.LONG_BIN in run.coverage.open_bins(
+                        SyncAtPowersOfTwo.POINT):   # updates with a phase of 256 and more
+                    short = max(short, 4 * SyncAtPowersOfTwo.LONG_PHASE)
                 s["period"] = limit_period(rng, model.long_latency,
-                                           min(room, 4 * model.long_latency) if short_first
-                                           else room, longest)
+                                           min(room, short) if short_first else room, longest)
                 for value in (0, 1):
                     if f"period {value}" in open_ and s["period"] != PERIOD_MAX:
                         s["period"] = value
@@ -540,12 +543,15 @@ class SyncAtPowersOfTwo(GeneratorSequence):
     rules = (robustness("sync_in at any time"), CORE_TIMING)
     SCENARIOS = ("limits",)
     POINT = "sync pulse at an update's phase"
+    #: the phase from which the update counter's high bits decide whether a sync restarts
+    LONG_PHASE = 256
+    LONG_BIN = f"a power of two of {LONG_PHASE} or more"
 
     @classmethod
     def coverpoints(cls, run):
         bins = ("ignored: update in flight", "starts the next update")
         if run.cycles >= LONG_SLOTS_RUN:        # room for updates of 256 clocks and more
-            bins += ("a power of two of 256 or more",)
+            bins += (cls.LONG_BIN,)
         return {cls.POINT: bins}
 
     def body(self):
@@ -761,8 +767,8 @@ class GeneratorRun(Waits):
                 self.hit(SyncPulses.POINT, "starts the next update in a slot mode")
             self.hit(SyncAtPowersOfTwo.POINT, "starts the next update" if restarts
                      else "ignored: update in flight")
-            if self.cycle == self.aimed_sync and m.p_lat >= 256:
-                self.hit(SyncAtPowersOfTwo.POINT, "a power of two of 256 or more")
+            if self.cycle == self.aimed_sync and m.p_lat >= SyncAtPowersOfTwo.LONG_PHASE:
+                self.hit(SyncAtPowersOfTwo.POINT, SyncAtPowersOfTwo.LONG_BIN)
         if start:
             self._start()
 
