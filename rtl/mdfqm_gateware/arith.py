@@ -6,7 +6,9 @@ Amaranth widens the difference by one bit, so its top bit is the true sign.
 """
 
 
-__all__ = ["greater", "greater_equal"]
+from amaranth import C
+
+__all__ = ["at_least", "greater", "greater_equal"]
 
 
 def greater(a, b):
@@ -17,3 +19,21 @@ def greater(a, b):
 def greater_equal(a, b):
     """``a >= b`` as the inverted sign of ``a - b``."""
     return ~(a - b)[-1]
+
+
+def at_least(value, constant: int):
+    """``value >= constant`` for an unsigned ``value`` and a constant, as logic on the bits
+    (no carry chain): from the lowest bit up, each bit of the constant ANDs (1) or ORs (0) that
+    bit of ``value`` into the result so far; bits below the constant's lowest set bit drop
+    out (the constant 0: always true)."""
+    if constant < 0:
+        raise ValueError(f"at_least: the constant must be >= 0, not {constant}")
+    if constant >= 1 << len(value):
+        return C(0, 1)
+    result = None                          # None: every bit so far is below the constant's
+    for k in range(len(value)):
+        if (constant >> k) & 1:
+            result = value[k] if result is None else value[k] & result
+        elif result is not None:
+            result = value[k] | result
+    return C(1, 1) if result is None else result

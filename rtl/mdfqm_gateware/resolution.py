@@ -21,6 +21,8 @@ from mdfqm_spec.contract import (
 )
 from mdfqm_spec.validate import validate_positive
 
+from .arith import at_least
+
 __all__ = ["Quantiser", "SlotLayout"]
 
 SVPWM, DPWM0, DPWM = (MODES.index(name) for name in ("svpwm", "dpwm0", "dpwm"))
@@ -70,13 +72,13 @@ class Quantiser(wiring.Component):
     ``S = 2**b``), all legs in parallel, every stage at most one carry chain:
 
     1. ``max(T) + min(T)`` (the sector of the dpwm clamp) and the per-update offsets of
-       ``g2 = 2 gamma`` = 0 and 2: ``g2 NF + (2 - g2) max + g2 min + NF / S`` and the same
-       minus ``2 NF``;
-    2. those of ``g2 = 1``, then the selection of the mode's ``g2`` (for dpwm by the sign of
+       ``g2 = 2 gamma`` = 0 and 2: ``g2 NF + (2 - g2) max + g2 min + NF / S``;
+    2. that of ``g2 = 1``, then the selection of the mode's ``g2`` (for dpwm by the sign of
        ``max + min``);
     3. per leg ``V_i = offset - 2 T_i`` (= ``2 C_i + NF / S``, the leg's rounded switching
-       instant) and ``V_i - 2 NF`` (its sign: the top quotient bit); then, with the load of the
-       divider, the clamp to ``[0, 2 NF]`` (a select of registers);
+       instant); then, with the load of the divider, ``V_i >= 2 NF`` (the top quotient bit:
+       a compare with a constant, logic on the register's bits) and the clamp to
+       ``[0, 2 NF]``;
     4. ``B`` clocks of restoring division by the constant ``2 NF`` (one quotient bit a clock;
        after ``b`` bits the rest are forced to 0): ``m_i = q_i 2**(B - b)``; of ``V_i`` and
        ``2 NF`` both shifted right by the bits below every boundary ``j 2 NF / 2**B`` (which
@@ -169,8 +171,6 @@ class Quantiser(wiring.Component):
         wide = signed(c.t_width + 3)
         k_tab = [_table(m, [g * nf + (nf >> b) for b in b_range], self.i_bits, wide, f"k{g}")
                  for g in range(3)]
-        km_tab = [_table(m, [g * nf + (nf >> b) - div for b in b_range], self.i_bits, wide,
-                         f"km{g}") for g in range(3)]
         lo_mask = _table(m, [((1 << (bmax + 1)) - 1) & ~((1 << (bmax - b)) - 1) for b in b_range],
                          self.i_bits, unsigned(bmax + 1), "lo_mask")
         m.d.sync += [
@@ -182,13 +182,11 @@ class Quantiser(wiring.Component):
 
         # ---- stage 1: the sector sum, and the dpwm offsets (one adder each, in parallel)
         sum_mm = Signal(signed(c.t_width + 1))
-        ofs = {name: Signal(wide, name=name) for name in ("o0", "o0m", "o2", "o2m")}
+        ofs = {name: Signal(wide, name=name) for name in ("o0", "o2")}
         m.d.sync += [
             sum_mm.eq(self.i_max + self.i_min),
             ofs["o0"].eq(self.i_max * 2 + k_tab[0]),
-            ofs["o0m"].eq(self.i_max * 2 + km_tab[0]),
             ofs["o2"].eq(self.i_min * 2 + k_tab[2]),
-            ofs["o2m"].eq(self.i_min * 2 + km_tab[2]),
         ]
         # the mode decoded once (it is still through the update)
         is_svpwm, is_dpwm0, is_dpwm = Signal(), Signal(), Signal()
@@ -197,11 +195,8 @@ class Quantiser(wiring.Component):
 
         # ---- stage 2: the svpwm offset, then the zero split selects (after the adders)
         g_zero = is_dpwm0 | (is_dpwm & ~sum_mm[-1])
-        offset, offset_m = Signal(wide), Signal(wide)
-        m.d.sync += [
-            offset.eq(Mux(is_svpwm, sum_mm + k_tab[1], Mux(g_zero, ofs["o0"], ofs["o2"]))),
-            offset_m.eq(Mux(is_svpwm, sum_mm + km_tab[1], Mux(g_zero, ofs["o0m"], ofs["o2m"]))),
-        ]
+        offset = Signal(wide)
+        m.d.sync += offset.eq(Mux(is_svpwm, sum_mm + k_tab[1], Mux(g_zero, ofs["o0"], ofs["o2"])))
 
         # ---- stage 3: per-leg instants; stage 4: clamped, loaded into the divider
         valid = [self.i_valid]
@@ -225,8 +220,10 @@ class Quantiser(wiring.Component):
         for i in range(n):
             t2 = self.i_t[i] * 2
             v = Signal(wide, name=f"v{i}")
-            v_m = Signal(wide, name=f"v{i}_m")
-            m.d.sync += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
+            m.d.sync += v.eq(offset - t2)
+            # V >= 2 NF: the top quotient bit (a compare of a register with a constant, logic on
+            # its bits, no carry chain)
+            beyond = ~v[-1] & at_least(v[:-1], div)
             top = Signal(name=f"top{i}")
             rem = Signal(rem_shape, name=f"rem{i}")
             q = Signal(bmax, name=f"q{i}")
@@ -236,8 +233,8 @@ class Quantiser(wiring.Component):
             fits = ~trial[-1]
             with m.If(load):
                 m.d.sync += [
-                    top.eq(~v_m[-1]),
-                    rem.eq(Mux(v[-1] | ~v_m[-1], 0, v[low:])),
+                    top.eq(beyond),
+                    rem.eq(Mux(v[-1] | beyond, 0, v[low:])),
                 ]
             with m.Elif(run != 0):
                 # the B shifts push out every bit q held before the load
