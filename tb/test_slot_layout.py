@@ -38,7 +38,7 @@ async def slot_layout_loads_and_slots(dut):
         load = {"i_load": 1, "i_bbit": rng.random() < 0.75, "i_h": rng.randrange(1 << n),
                 "i_first": centred_slots(on, slots)[0], "i_lo": pack(lo, big + 1),
                 "i_hi": pack(hi, big + 1), "i_slots": slots - 1, "i_delta": delta,
-                "i_slot_m2": (length - 2) & ((1 << 17) - 1), "rst": 0}
+                "i_slot_m2": (length - 2) & ((1 << 16) - 1), "rst": 0}
         # the next load comes when the layout has played out, or cuts it short
         gap = rng.choice([slots * length + rng.randint(0, 5), rng.randint(1, slots * length + 2)])
         for k in range(gap):

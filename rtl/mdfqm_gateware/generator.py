@@ -136,8 +136,10 @@ class GatingSignalGenerator(wiring.Component):
         assert 2 + sort1.latency + candidates.latency + sort2.latency + decoder.latency \
             == self.latency
 
-        slot_len = Signal(len(self.period))
-        slot_m2 = Signal(signed(len(self.period) + 1))
+        # a slot mode has b >= 1: a slot is at most half the longest period (an MDFQM update
+        # loads the layout's count too, unused: no slot follows its state)
+        slot_len = Signal(len(self.period) - 1)
+        slot_m2 = Signal(signed(len(self.period)))
         bbit = sequencer.mode_lat != 0
         commit = Mux(sequencer.long, quantiser.o_valid, decoder.o_valid)
 

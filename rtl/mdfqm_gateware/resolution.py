@@ -302,8 +302,9 @@ class SlotLayout(wiring.Component):
         Number of slots after the first (``S - 1``).
     i_delta : In(max_bits + 1)
         One slot in scaled indices.
-    i_slot_m2 : In(signed(period_width + 1))
-        Clocks per slot minus two (>= -1).
+    i_slot_m2 : In(signed(period_width))
+        Clocks per slot minus two (>= -1): a slot is at most half of a ``period_width``-bit
+        period (``b >= 1``), so the count fits ``period_width`` signed bits.
     o_h : Out(phases)
         Gate state (registered; 0 after reset).
 
@@ -329,7 +330,7 @@ class SlotLayout(wiring.Component):
             "i_hi": In(data.ArrayLayout(index, phases)),
             "i_slots": In(max_bits),
             "i_delta": In(max_bits + 1),
-            "i_slot_m2": In(signed(period_width + 1)),
+            "i_slot_m2": In(signed(period_width)),
             "o_h": Out(phases),
         })
 
@@ -347,8 +348,8 @@ class SlotLayout(wiring.Component):
         delta = Signal(bmax + 1)
         left = Signal(bmax)              # slots still to begin
         more = Signal()                  # left != 0
-        count = Signal(signed(self.period_width + 1))   # clocks left in this slot, minus two
-        slot_m2 = Signal(signed(self.period_width + 1))
+        count = Signal(signed(self.period_width))   # clocks left in this slot, minus two
+        slot_m2 = Signal(signed(self.period_width))
         advance = count[-1] & more
         with m.If(self.i_load):
             m.d.sync += [lo[i].eq(self.i_lo[i]) for i in range(n)]
