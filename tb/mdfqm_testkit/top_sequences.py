@@ -423,15 +423,28 @@ class DeadTime(TopSequence):
              rdl("DEAD.DEAD"), doc(TOP_MD, "Gate driver (per leg)"))
     claims = frozenset({DEAD})
     POINT = "DEAD written"
+    RUNNING = "DEAD lowered while a dead time runs, that dead time in"
+
+    @classmethod
+    def running_edges(cls, run) -> tuple[int, ...]:
+        """Octaves of the running dead time that a lowering must not shorten (each sets its
+        bit of the dead time in force), from the floor's: to 2**10 where the run has room, else
+        to 2**7."""
+        top = 10 if run.cycles >= PERIOD_BAND_RUN else 7
+        floor = run.model.dead_min.bit_length() - 1
+        return tuple(1 << k for k in range(min(floor, top), top + 1))
 
     @classmethod
     def coverpoints(cls, run):
         return {cls.POINT: ("below the floor", "raised while a dead time runs",
-                            "lowered while a dead time runs", "the clock before a turn-on")}
+                            "lowered while a dead time runs", "the clock before a turn-on"),
+                cls.RUNNING: tuple(bands(cls.running_edges(run)))}
 
     def body(self):
         run, rng = self.run, self.rng
-        pick = rng.choice(run.coverage.open_bins(self.POINT) or [self.POINT])
+        running_open = run.coverage.open_bins(self.RUNNING)
+        pick = rng.choice(run.coverage.open_bins(self.POINT) or
+                          (["lowered while a dead time runs"] if running_open else [self.POINT]))
         dead_min = run.model.dead_min
         now = max(run.model.dead, dead_min)
         if pick == "below the floor":
@@ -439,8 +452,10 @@ class DeadTime(TopSequence):
         elif pick == "the clock before a turn-on":
             value, moment, lead = now + rng.randint(1, 8), run.moment_turn_on, 1
         else:
-            if pick.startswith("lowered"):      # from above the floor, so that it can drop
-                now += rng.randint(2, 12)
+            if pick.startswith("lowered"):      # from a dead time in one of the octaves
+                octave = rng.choice(running_open or bands(self.running_edges(run)))
+                low = int(octave.split("..")[0])
+                now = max(dead_min + 2, low + rng.randrange(low))
                 yield from run.settle(run.write(regs.DEAD, now))
                 yield from run.wait(2)
                 value = rng.randint(dead_min, now - 1)

@@ -685,6 +685,11 @@ class Monitor:
                     self.hit(point, "raised while a dead time runs")
                 elif new < now:
                     self.hit(point, "lowered while a dead time runs")
+                    running = max((leg.dt_run for leg in m.driver.legs
+                                   if not (leg.up or leg.lo)), default=0)
+                    edges = seq.DeadTime.running_edges(run)
+                    if running >= edges[0]:
+                        self.hit(seq.DeadTime.RUNNING, band(running, edges))
             self.dead_written = True
         if address == regs.CTRL and not m.core.update:
             was, now = m.ctrl & regs.CTRL_ENABLE, value & regs.CTRL_ENABLE
