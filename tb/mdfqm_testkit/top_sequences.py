@@ -300,33 +300,38 @@ class RuntimeChanges(TopSequence):
 
 
 class ModulationModes(TopSequence):
-    """MODULATION.MODE and .BITS: every mode built in, and every b of the slot modes, in force
-    (taken at the next update start, read back in force)."""
+    """MODULATION.MODE and .BITS: every mode built in, and each slot mode at every b, in force
+    (taken at the next update start, read back in force): the offsets and slot counts of each
+    (mode, b) are their own."""
 
     rules = (rdl("MODULATION.MODE"), rdl("MODULATION.BITS"),
              doc(TOP_MD, "Modulation mode and resolution"))
     claims = frozenset({MODULATION})
     MODES_POINT = "mode in force"
-    BITS_POINT = "b in force in a slot mode"
+    BITS_POINT = "slot mode and b in force"
+
+    @staticmethod
+    def slot_bin(mode: int, bits: int) -> str:
+        return f"{MODES[mode]}, b {bits}"
 
     @classmethod
     def coverpoints(cls, run):
         points = {cls.MODES_POINT: MODES[:len(MODES) if run.model.max_bits else 1]}
         if run.model.max_bits:
-            points[cls.BITS_POINT] = tuple(range(1, run.model.max_bits + 1))
+            points[cls.BITS_POINT] = tuple(cls.slot_bin(mode, b) for mode in range(1, len(MODES))
+                                           for b in range(1, run.model.max_bits + 1))
         return points
 
     def body(self):
         run, rng = self.run, self.rng
         modes = run.coverage.open_bins(self.MODES_POINT)
-        b_open = run.coverage.open_bins(self.BITS_POINT) if run.model.max_bits else []
+        pairs = run.coverage.open_bins(self.BITS_POINT) if run.model.max_bits else []
+        mode = bits = None
         if modes:
             mode = MODES.index(rng.choice(modes))
-        elif b_open:
-            mode = rng.randint(1, len(MODES) - 1)
-        else:
-            mode = None
-        bits = int(rng.choice(b_open)) if b_open and mode else None
+        elif pairs:
+            name, b = rng.choice(pairs).split(", b ")
+            mode, bits = MODES.index(name), int(b)
         word = run.modulation_word(legal=True, mode=mode, bits=bits)
         run.nominal[regs.MODULATION] = word
         yield from run.settle(run.write(regs.MODULATION, word), run.read(regs.MODULATION))

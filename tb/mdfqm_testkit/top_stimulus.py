@@ -788,7 +788,8 @@ class Monitor:
             mode = getattr(core, "mode_lat", 0)
             self.hit(seq.ModulationModes.MODES_POINT, MODES[mode])
             if mode:
-                self.hit(seq.ModulationModes.BITS_POINT, core.bits_lat)
+                self.hit(seq.ModulationModes.BITS_POINT,
+                         seq.ModulationModes.slot_bin(mode, core.bits_lat))
             request = (facts["mode_request"], facts["bits_request"])
             built = len(MODES) if m.max_bits else 1
             point = seq.ModulationClamp.POINT
