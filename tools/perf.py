@@ -341,6 +341,8 @@ class Row:
     synth: str = ""
     counts: dict = field(default_factory=dict)
     routes: dict = field(default_factory=dict)
+    #: the seeds after the first whose route failed: nextpnr's first words, by seed
+    failed: dict = field(default_factory=dict)
     no_fit: str | None = None
     seconds: float = 0.0
 
@@ -462,7 +464,7 @@ def summary(row: Row, core3: dict[str, float] | None = None) -> dict:
             "device_key": row.device.key, "target": target,
             "relative": config.relative, "synth": row.synth,
             "fallback": row.synth != row.device.synth, "no_fit": row.no_fit,
-            "seeds": sorted(row.routes), "fmaxes": fmaxes,
+            "seeds": sorted(row.routes), "fmaxes": fmaxes, "failed": dict(row.failed),
             "fmax": statistics.median(fmaxes) if fmaxes else None,
             "fmax_min": min(fmaxes) if fmaxes else None,
             "latency": design.latency, "long_latency": long_latency,
@@ -499,7 +501,13 @@ def measure_all(pairs: list[tuple[Config, Device]], jobs: int, progress=print) -
                                         for s in row.seeds[1:]})
                 else:
                     row = rows[index]
-                    row.routes[seed] = future.result()
+                    try:
+                        row.routes[seed] = future.result()
+                    except RuntimeError as error:   # kept, said in the table: not a verdict
+                        row.failed[seed] = " ".join(str(error).split())[:120]
+                        progress(f"{row.config.key} {row.device.key}: seed {seed} failed: "
+                                 f"{row.failed[seed]}")
+                        continue
                     progress(f"{row.config.key} {row.device.key}: seed {seed} "
                              f"{row.routes[seed]['fmax']:.1f} MHz")
     ordered = [rows[i] for i in range(len(pairs))]
@@ -538,7 +546,7 @@ def table(rows: list[dict], versions: str, date: str) -> str:
         "DSP |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    long_rates, fallback = {}, {}
+    long_rates, fallback, failed = {}, {}, {}
     for r in rows:
         latency = f"{r['latency']}"
         device = r["device"]
@@ -558,6 +566,10 @@ def table(rows: list[dict], versions: str, date: str) -> str:
                 rate += (f" short, {r['fmax'] / r['long_period']:.3f} long at "
                          f"b = {r['max_bits']}\u00b9")
         seeds = ",".join(str(s) for s in r.get("seeds", ())) or "-"
+        if r.get("failed"):
+            seeds += "\u00b3"
+            failed.update({(r["design"], r["device"], s): text
+                           for s, text in r["failed"].items()})
         lines.append(
             f"| {r['design']} | {r['phases']} / {r['width']} | {device} | {latency} | {fmax} | "
             f"{fmax_min} | {seeds} | {_target_cell(r)} | {rate} | {r['luts']} | {r['ffs']} | "
@@ -581,6 +593,13 @@ def table(rows: list[dict], versions: str, date: str) -> str:
             "status 1 without a message) or writes a netlist nextpnr rejects (a net driven "
             "twice); its logs are `yosys.log` and `nextpnr-plain.log` beside the row's "
             "others.",
+        ]
+    if failed:
+        lines += [
+            "",
+            "\u00b3 Seeds whose place and route failed (not counted in the median and minimum): "
+            + "; ".join(f"{design} on {device.split(' (')[0]}, seed {seed}: {text}"
+                        for (design, device, seed), text in failed.items()) + ".",
         ]
     return "\n".join(lines) + "\n"
 

@@ -159,6 +159,38 @@ def test_summary_judges_the_median_seed():
     assert plain.seeds == perf.SEEDS[:1]
 
 
+def test_a_failed_seed_is_reported_not_fatal(monkeypatch):
+    """A route that fails on a later seed leaves the other seeds' figures and says so in the
+    table, instead of ending a long run."""
+    config = next(c for c in perf.CONFIGS if c.key == "core3")
+    device = next(d for d in perf.DEVICES if d.key == "up5k")
+
+    class Design:
+        phases, width, latency = 3, 16, 8
+
+    def synthesise(config, device):
+        row = perf.Row(config, device, ROOT / "build", Design(), synth=device.synth,
+                       counts={"luts": 1, "ffs": 2, "carry": 3, "dsp": 0})
+        row.routes[1] = {"seed": 1, "fmax": 50.0, "critical": None, "log": "l", "seconds": 1}
+        return row
+
+    def route(row, seed):
+        if seed == 3:
+            raise RuntimeError("nextpnr-ice40 exited with status 1:\n  ERROR: a router")
+        return {"seed": seed, "fmax": 40.0 + seed, "critical": None, "log": "l", "seconds": 1}
+
+    monkeypatch.setattr(perf, "synthesise", synthesise)
+    monkeypatch.setattr(perf, "route", route)
+    lines = []
+    (got,) = perf.measure_all([(config, device)], 2, progress=lines.append)
+    assert got["seeds"] == [1, 2, 4, 5] and got["fmax"] == 44.5    # the four routed
+    assert list(got["failed"]) == [3] and "ERROR: a router" in got["failed"][3]
+    assert any("seed 3 failed" in line for line in lines)
+    text = perf.table([got], "Yosys X", "2026-01-02")
+    assert "1,2,4,5\u00b3" in text
+    assert "seed 3: nextpnr-ice40 exited with status 1: ERROR: a router" in text
+
+
 def test_status_lines():
     rows = [_row("core3", "up5k", 46.3, critical={
                 "start": None, "start_name": "inner.a[1]", "end": None, "end_name": "inner.b",
