@@ -209,36 +209,31 @@ def board_rows() -> list[list[str]]:
 
 
 def test_lut_figures_quoted_from_make_perf():
-    """docs/boards.md quotes `make perf`'s LUT4 of the whole top and of the MDFQM-only top on
-    the UP5K (the README's table, which `make perf` writes); "about 1,000 LUT4" more (boards.md)
-    or fewer (top.md) is their difference within 15 %."""
+    """docs/top.md's "about 1,000 LUT4" fewer for the MDFQM-only top is the difference of
+    `make perf`'s LUT4 of the whole top and of the MDFQM-only top on the UP5K (the README's
+    table, which `make perf` writes) within 15 %; docs/boards.md states no LUT4 figure of its own
+    outside the board table (it points to the tables instead)."""
     whole, alone = perf_lut4("top, Wishbone", "iCE40 UP5K"), perf_lut4("top, MDFQM only",
                                                                         "iCE40 UP5K")
-    quoted = re.search(r"`make perf`: ([\d,]+) against ([\d,]+) LUT4 for the top alone",
-                       flat("docs/boards.md"))
-    assert quoted and (number(quoted.group(1)), number(quoted.group(2))) == (whole, alone)
-    for name in ("docs/boards.md", "docs/top.md"):
-        about = re.findall(r"about ([\d,]+) LUT4", flat(name))
-        assert about, name
-        for figure in about:
-            assert abs(number(figure) - (whole - alone)) <= 0.15 * number(figure), \
-                (name, figure, whole - alone)
+    about = re.findall(r"about ([\d,]+) LUT4", flat("docs/top.md"))
+    assert about
+    for figure in about:
+        assert abs(number(figure) - (whole - alone)) <= 0.15 * number(figure), \
+            (figure, whole - alone)
+    prose = re.sub(r"<!-- boards-report:begin -->.*?<!-- boards-report:end -->", "",
+                   flat("docs/boards.md"), flags=re.S)
+    assert not re.search(r"[\d,]+ (LUT4|logic cells)", prose)
 
 
 def test_board_figures_quoted_from_make_report():
-    """docs/boards.md's margins and the UP5K's logic cells, from its own board-report table
-    (which `make report` writes)."""
+    """docs/boards.md's margins, from its own board-report table (which `make report`
+    writes)."""
     body = flat("docs/boards.md")
     margins = [int(m) for row in board_rows() for m in re.findall(r"\+(\d+) %", row[8])]
     assert len(margins) == len(board_rows())
     stated = re.search(r"leave (\d+)-(\d+) % of margin", body)
     assert stated and (int(stated.group(1)), int(stated.group(2))) == (min(margins),
                                                                          max(margins))
-    icebreaker = next(r for r in board_rows() if r[0] == "icebreaker")
-    used, cells = (int(v) for v in icebreaker[5].split(" / "))
-    stated = re.search(r"uses about ([\d,]+) of its ([\d,]+) logic cells", body)
-    assert stated and number(stated.group(2)) == cells
-    assert abs(number(stated.group(1)) - used) <= 0.1 * used
 
 
 def perf_fmax(design: str, device: str) -> tuple[float, str]:
