@@ -23,7 +23,7 @@ export OPENFPGALOADER := true
 export DFU_SUFFIX := true
 export PYTHONDONTWRITEBYTECODE := 1
 
-.PHONY: all setup generate bitstream test lint model-test sim prove-top prove-long soak perf mutate report drive clean distclean
+.PHONY: all setup generate bitstream test lint model-test sim prove-top prove-long soak perf perf-area mutate report drive clean distclean
 
 all: generate bitstream
 
@@ -74,6 +74,9 @@ soak: $(STAMP)
 
 perf: $(STAMP)
 	$(PY) -m tools.perf --readme README.md
+
+perf-area: $(STAMP)
+	$(PY) -m tools.perf --area-only --readme README.md
 
 mutate: $(STAMP)
 	$(PY) -m tools.mutate --jobs $(JOBS) --resume --out reports

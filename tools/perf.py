@@ -710,11 +710,11 @@ def area_table(rows: list[dict], device: Device, versions: str, date: str) -> st
     the full top): each row's cells and their difference to the first."""
     base = rows[0]
     lines = [
-        f"Area per feature, from `make perf` (`python -m tools.perf`) on {date} with "
-        f"{versions}: Yosys `{device.synth}` for the {device.name.split(' (')[0]}, the top at "
-        "N = 3, width 16 in the serial wrapper of the speed table (synthesis only: cells, not "
-        "placement). Each row changes one parameter of the first; the difference is what that "
-        "feature costs.",
+        "Area per feature, from `make perf` or `make perf-area` (`python -m tools.perf`) on "
+        f"{date} with {versions}: Yosys `{device.synth}` for the "
+        f"{device.name.split(' (')[0]}, the top at N = 3, width 16 in the serial wrapper of "
+        "the speed table (synthesis only: cells, not placement). Each row changes one "
+        "parameter of the first; the difference is what that feature costs.",
         "",
         "| top | LUT4 | FF | carry | DSP | LUT4 vs the first | FF vs the first |",
         "|---|---|---|---|---|---|---|",
@@ -788,9 +788,14 @@ def main(argv=None) -> None:
                              "perf, perf-status and perf-area blocks")
     parser.add_argument("--no-area", action="store_true",
                         help="skip the area-per-feature table (as --quick does)")
+    parser.add_argument("--area-only", action="store_true",
+                        help="only the area-per-feature table (synthesis, no place and route; "
+                             "with --readme its block alone is written)")
     args = parser.parse_args(argv)
     if args.quick and (args.designs or args.devices):
         parser.error("--quick is a fixed subset: give it or --designs / --devices, not both")
+    if args.area_only and (args.quick or args.no_area or args.designs or args.devices):
+        parser.error("--area-only measures the area table alone: no other selection")
     if args.jobs < 1:
         parser.error("--jobs must be at least 1")
     designs, devices = (",".join(QUICK[0]), ",".join(QUICK[1])) if args.quick else \
@@ -806,6 +811,16 @@ def main(argv=None) -> None:
         device = next(d for d in DEVICES if d.key == AREA_DEVICE)
         with ThreadPoolExecutor(max_workers=args.jobs) as pool:
             areas = list(pool.map(lambda v: area_of(v, device), VARIANTS))
+    if args.area_only:
+        date, versions = datetime.date.today().isoformat(), tool_versions()
+        area = area_table(areas, device, versions, date)
+        (BUILD / "area.json").write_text(json.dumps(areas, indent=1) + "\n")
+        print(area)
+        print(f"make perf (area only): {(time.monotonic() - started) / 60:.1f} min with "
+              f"{args.jobs} jobs")
+        if args.readme:
+            replace_block(args.readme, "perf-area", area)
+        return
     rows = measure_all(pairs, args.jobs, progress=lambda line: print(line, flush=True))
     minutes = (time.monotonic() - started) / 60
     date = datetime.date.today().isoformat()

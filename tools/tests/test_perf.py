@@ -310,7 +310,9 @@ def test_wrapper_feeds_every_port_bit(config):
 
 
 @pytest.mark.parametrize("args", [["--designs", "nope"], ["--devices", "hx1k"],
-                                  ["--quick", "--designs", "top_wb"], ["--designs", ","]])
+                                  ["--quick", "--designs", "top_wb"], ["--designs", ","],
+                                  ["--area-only", "--quick"], ["--area-only", "--no-area"],
+                                  ["--area-only", "--designs", "core3"]])
 def test_rejects_bad_selections(args):
     with pytest.raises(SystemExit) as info:
         perf.main(args)
