@@ -4,7 +4,7 @@ from amaranth import Array, Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from mdfqm_spec.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period
+from mdfqm_spec.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period, signed_bits
 from mdfqm_spec.validate import validate_positive
 
 __all__ = ["UpdateSequencer"]
@@ -177,18 +177,21 @@ class UpdateSequencer(wiring.Component):
         clamped = Mux(long_now, below, self.period < short)
         minimum = Signal(width)
         period_lat = Signal(width)
-        # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0
-        count = Signal(signed(width + 2))
-        floor = Signal(signed(width + 2))
+        # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0.
+        # count is negative for at most the minimum's clocks before the next start reloads it
+        # (no wrap in width + 1 bits); floor, as wide as the largest minimum, holds once
+        # negative
+        count = Signal(signed(width + 1))
+        floor = Signal(signed(signed_bits(-1, max(table) - 3)))
         restart = self.sync_in & Mux(self.long, phase >= long_lat - 1, phase >= short - 1)
         # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
         ends = ~self.start & (restart | (count[-1] & floor[-1]))
         m.d.sync += [
             count.eq(Mux(self.start, self.period - 3, count - 1)),
             floor.eq(Mux(self.start,
-                         Mux(long_now, Array(Const(v - 3, width) for v in table)[b_now],
+                         Mux(long_now, Array(Const(v - 3, floor.shape()) for v in table)[b_now],
                              short - 3),
-                         floor - 1)),
+                         Mux(floor[-1], floor, floor - 1))),
             # P of the update, from the third clock of the update on (phase >= 2)
             self.p_lat.eq(Mux(period_lat < minimum, minimum, period_lat)),
         ]

@@ -127,9 +127,9 @@ SAMPLE: tuple[Sampled, ...] = (
     Sampled("core",
             "rtl/mdfqm_gateware/sequencer.py@ccc5115c sequencer $mux#0 S[0] const0",
             "row: reset in the middle of an update"),
-    # m.d.sync += [v.eq(offset - t2), v_m.eq(offset_m - t2)]
+    # ofs['o2'].eq(self.i_min * 2 + k_tab[2])
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@0534a126 quantiser $sub#3 B[10] const1",
+            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $mul#0 B[1] const0",
             "datapath"),
     # m.d.sync += count.eq(count - 1)
     Sampled("generator",
@@ -272,12 +272,6 @@ _TOGGLED_WHILE_HELD = (
     "`slot_m2`) only when the layout loads, a fixed number of clocks after the start, where the "
     "vector runs show it holding its loaded value.")
 
-#: a bit of the minimum-period count-down ``floor`` cleared
-_FLOOR_CLEARED = (
-    "{what}. Only the sign of `floor` (18 bits, signed) is read. It is loaded with `minimum - "
-    "3` <= 253, below 2**{bit}, so nothing changes until it is negative; from -1 on, it stays "
-    "negative for 65,536 clocks (counted on the mutant's arithmetic), and every update (at most "
-    "65,535 clocks) reloads it first.")
 #: a leg's ``hi`` at 256 (the leg on for the whole update) changed to another value past it
 _HI_PAST_LAST = (
     "{what}. `hi = lo + on = floor(m / 2) + 2**B - m` is at least 128, and {when} only at `hi = "
@@ -318,14 +312,6 @@ READINGS: tuple[Reading, ...] = (
         "is clear (b < 6), so `lo = (m >> 1) & lo_mask` takes bit 1 of the quotient `m` too. At "
         "b < 6 the quotient's low B - b >= 3 bits are 0 (after its b-th step the divider shifts "
         "in zeros: `fits & (want != 0)`), so that bit is 0 and `lo` is unchanged."),
-    Reading(
-        "rtl/mdfqm_gateware/sequencer.py@64f896ee sequencer $sub#0 A[15] const0",
-        _FLOOR_CLEARED.format(what="the minimum-period count-down `floor` is decremented with "
-                                   "its bit 15 cleared", bit=15)),
-    Reading(
-        "rtl/mdfqm_gateware/sequencer.py@64f896ee core.sequencer $mux#1 Y[13] const0",
-        _FLOOR_CLEARED.format(what="bit 13 of every value written to the minimum-period "
-                                   "count-down `floor` is cleared, loads included", bit=13)),
     Reading(
         "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[8] cnot0/15",
         _TOGGLED_WHILE_HELD.format(what="bit 8 of `minimum` (the minimum period; the mutation "
