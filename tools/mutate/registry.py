@@ -73,7 +73,9 @@ def reading(key: str) -> Reading | None:
 # -- source text each key names
 # -- origin: drawn with seed 7 by the line-keyed sample tool before the keys named source text
 # --   (the Wishbone top's two-events row chosen by hand among the mutants it killed), then its
-# --   keys translated cell for cell into source-text keys on the same netlists
+# --   keys translated cell for cell into source-text keys on the same netlists; the generator's
+# --   datapath mutant chosen again by hand on 2026-11-27 among those its vector runs killed in
+# --   the campaign (its line, the quantiser's V - 2 NF, was removed)
 SAMPLE: tuple[Sampled, ...] = (
     # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
     Sampled("core",
