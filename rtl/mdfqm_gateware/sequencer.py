@@ -58,8 +58,8 @@ class UpdateSequencer(wiring.Component):
     long : Out(1)
         The current update is long (registered).
     p_lat : Out(period_width)
-        Period P of the current update, after the clamp (registered twice: valid from the third
-        clock of the update on, ``phase >= 2``).
+        Period P of the current update, after the clamp (registered at the start: valid from
+        the second clock of the update on, ``phase >= 1``).
     mode_clamped : Out(1)
         The last start's ``mode`` was illegal or its ``bits`` was clamped (registered).
 
@@ -175,8 +175,7 @@ class UpdateSequencer(wiring.Component):
                  for b in range(1 << BITS_WIDTH)]
         below = Array(self.period < v for v in table)[b_now]
         clamped = Mux(long_now, below, self.period < short)
-        minimum = Signal(width)
-        period_lat = Signal(width)
+        minimum = Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)
         # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0.
         # count is negative for at most the minimum's clocks before the next start reloads it
         # (no wrap in width + 1 bits); floor, as wide as the largest minimum, holds once
@@ -192,13 +191,11 @@ class UpdateSequencer(wiring.Component):
                          Mux(long_now, Array(Const(v - 3, floor.shape()) for v in table)[b_now],
                              short - 3),
                          Mux(floor[-1], floor, floor - 1))),
-            # P of the update, from the third clock of the update on (phase >= 2)
-            self.p_lat.eq(Mux(period_lat < minimum, minimum, period_lat)),
         ]
         with m.If(self.start):
             m.d.sync += [
-                minimum.eq(Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)),
-                period_lat.eq(self.period),
+                # P = max(period, minimum) of the update: the flag's compare selects
+                self.p_lat.eq(Mux(clamped, minimum, self.period)),
                 prev_bbit.eq(bbit_now),
                 self.long.eq(long_now),
                 self.mode_lat.eq(mode_now),

@@ -265,15 +265,6 @@ SAMPLE: tuple[Sampled, ...] = (
 # -- end of the sample
 
 
-#: a register bit that toggles every clock while the register holds, read at one clock of the
-#: update
-_TOGGLED_WHILE_HELD = (
-    "{what} toggles every clock while the register holds (the mutation sits on its output, "
-    "which the hold path feeds back: what is read alternates between the loaded value and the "
-    "mutated one); it is loaded at an update start and read (through `p_lat`, `slot_len`, "
-    "`slot_m2`) only when the layout loads, a fixed number of clocks after the start, where the "
-    "vector runs show it holding its loaded value.")
-
 #: a leg's ``hi`` at 256 (the leg on for the whole update) changed to another value past it
 _HI_PAST_LAST = (
     "{what}. `hi = lo + on = floor(m / 2) + 2**B - m` is at least 128, and {when} only at `hi = "
@@ -281,17 +272,6 @@ _HI_PAST_LAST = (
     "index as 256 is: the turn-off compare at the load (`delta == hi`, delta <= 128) fails "
     "either way, and a match of `after == 256` at the advance into the last slot is never used "
     "(the last slot is held until the next load): the leg stays on.")
-
-
-def _minimum_bit_cleared(b: int) -> str:
-    """Bit b of ``minimum``, set only by the minimum ``2**b`` of that b, read as 0."""
-    return (
-        f"bit {b} of `minimum` reads 0 (the hold path feeds the 0 back), so the minimum of b = "
-        f"{b}, {1 << b}, reads 0 and `P = max(period, minimum)` is the period itself when that "
-        "is shorter. P is read only as `slot_len = P >> b`, then 0 instead of 1, and slots of 0 "
-        "or 1 clocks are the same one-clock slots: the layout's count-down is loaded with "
-        "`slot_len - 2`, negative either way, and advances every clock. The update's length "
-        "comes from the `floor` count-down, loaded from the table, not from `minimum`.")
 
 
 READINGS: tuple[Reading, ...] = (
@@ -302,22 +282,11 @@ READINGS: tuple[Reading, ...] = (
         "either way, unless the mutated count wraps past 65535 inside one update (an update of "
         "more than about 64,500 clocks) and a sync arrives in the few clocks after the wrap."),
     Reading(
-        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 sequencer $dff#0 Q[6] inv",
-        _TOGGLED_WHILE_HELD.format(what="bit 6 of `minimum` (the minimum period)")),
-    Reading(
-        "rtl/mdfqm_gateware/sequencer.py@a15f700b sequencer $dff#0 Q[5] cnot1/1",
-        _TOGGLED_WHILE_HELD.format(what="bit 5 of `period_lat` (the latched period), while its "
-                                        "bit 1 is set,")),
-    Reading(
         "rtl/mdfqm_gateware/resolution.py@24f01f3e quantiser $and#0 B[0] cnot0/2",
         "bit 0 of the slot-grid mask `lo_mask` (set only for b = 8) is inverted while its bit 2 "
         "is clear (b < 6), so `lo = (m >> 1) & lo_mask` takes bit 1 of the quotient `m` too. At "
         "b < 6 the quotient's low B - b >= 3 bits are 0 (after its b-th step the divider shifts "
         "in zeros: `fits & (want != 0)`), so that bit is 0 and `lo` is unchanged."),
-    Reading(
-        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[8] cnot0/15",
-        _TOGGLED_WHILE_HELD.format(what="bit 8 of `minimum` (the minimum period; the mutation "
-                                        "inverts it while bit 15, always clear, is clear)")),
     Reading(
         "rtl/mdfqm_gateware/resolution.py@9dbd1841 core.quantiser $dff#0 Q[3] cnot0/7",
         _HI_PAST_LAST.format(what="bit 3 of the quantiser's `hi` of leg 0 is inverted while its "
@@ -327,10 +296,4 @@ READINGS: tuple[Reading, ...] = (
         _HI_PAST_LAST.format(what="bit 6 of what the quantiser's `hi` of leg 1 is loaded with "
                                   "is inverted while its bit 8 is set",
                              when="its bit 8 is set", value=320)),
-    Reading(
-        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[5] const0",
-        _minimum_bit_cleared(5)),
-    Reading(
-        "rtl/mdfqm_gateware/sequencer.py@26e85ad3 core.sequencer $dff#0 Q[6] const0",
-        _minimum_bit_cleared(6)),
 )
