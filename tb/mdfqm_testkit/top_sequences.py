@@ -531,24 +531,18 @@ class LongTimes(TopSequence):
                       run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
                       run.write(regs.DEAD, dead)]
             yield from run.settle(*writes)
-            yield from self._this_trial_hit(self.DEAD_POINT, band(dead, self.DEAD_EDGES),
-                                            limit=4 * (dead + 3000) + 1000)
+            yield from run.until(lambda: run.coverage.covered(self.DEAD_POINT,
+                                                              band(dead, self.DEAD_EDGES)),
+                                 limit=4 * (dead + 3000) + 1000)
         else:
             value = (1 << 15) + rng.randrange(4000)
             yield from run.settle(run.write(regs.MIN_PULSE, value))
-            hit = yield from self._this_trial_hit(self.PULSE_POINT,
-                                                  band(value, self.PULSE_EDGES), 3 * value)
+            hit = yield from run.until(lambda: run.coverage.covered(
+                self.PULSE_POINT, band(value, self.PULSE_EDGES)), limit=3 * value)
             if hit:                 # the stretched pulse held to its end
                 yield from run.wait(value + 100)
         yield from run.settle(run.restore(regs.PERIOD, regs.DEAD, regs.MIN_PULSE,
                                           regs.MODULATION))
-
-    def _this_trial_hit(self, point, bin_, limit):
-        """Wait until this trial hits ``bin_`` (a hit of an earlier trial does not count), at
-        most ``limit`` clocks; whether it did."""
-        coverage = self.run.coverage
-        before = coverage.count(point, bin_)
-        return (yield from self.run.until(lambda: coverage.count(point, bin_) > before, limit))
 
 
 class ShortEdges(TopSequence):
