@@ -515,12 +515,12 @@ class SettingsAtTheirLimits(GeneratorSequence):
                     short = max(short, 4 * SyncAtPowersOfTwo.LONG_PHASE)
                 s["period"] = limit_period(rng, model.long_latency,
                                            min(room, short) if short_first else room, longest)
-                for value in (0, 1):
-                    if f"period {value}" in open_ and s["period"] != PERIOD_MAX:
-                        s["period"] = value
                 if s["period"] != PERIOD_MAX and rng.random() < 0.5:
                     s["period"] = _period_for(rng, model, min(s["mode"], len(MODES) - 1),
                                               min(max(s["bits"], 1), model.max_bits))
+                for value in (0, 1):     # an open bin's period is the one taken
+                    if f"period {value}" in open_ and s["period"] != PERIOD_MAX:
+                        s["period"] = value
                 longest = max(longest, s["period"])
                 run.holding = s["period"] == PERIOD_MAX
             if run.holding:      # the longest update in a slot mode at b = 1 or 2: slots of
