@@ -501,10 +501,17 @@ class LongTimes(TopSequence):
     """DEAD and MIN_PULSE in the high octaves of their 16-bit fields, where they decide the
     gates: a turn-on after a dead time of DEAD clocks (the updates longer than it, in MDFQM, so
     that a leg's command holds through its dead time), and a pulse held on to a MIN_PULSE of
-    more than 32,768 clocks; in runs long enough for a few such times."""
+    more than 32,768 clocks; in runs long enough for a few such times. The gates stay enabled,
+    with no fault or watchdog trip, and the reference stays in the linear range, a new beat
+    each update (OSR 1), meanwhile: an integrator held at its limit by a reference beyond it
+    (docs/robustness.md) would keep one state through every update of a trial, with no turn-on
+    to see."""
 
     rules = (rdl("DEAD.DEAD"), rdl("MIN_PULSE.MIN_PULSE"), doc(TOP_MD, "Gate driver (per leg)"))
-    claims = frozenset({PERIOD, DEAD, MODULATION, SYNC})
+    claims = frozenset({PERIOD, DEAD, MODULATION, SYNC, STREAM, OSR, CTRL, FAULT, WATCHDOG})
+    #: a trial holds most of the top for updates of up to 65,535 clocks: drawn mostly while
+    #: one of its bins is open
+    weight = 0.25
     DEAD_POINT = "DEAD in force at a turn-on"
     PULSE_POINT = "a pulse stretched to a MIN_PULSE in"
     #: the octaves aimed at: the dead time's compare and count in their high bits
@@ -522,27 +529,44 @@ class LongTimes(TopSequence):
 
     def body(self):
         run, rng = self.run, self.rng
+        run.stream.kind = "linear"
         open_dead = run.coverage.open_bins(self.DEAD_POINT)
         if open_dead or (not run.coverage.open_bins(self.PULSE_POINT) and rng.random() < 0.5):
             low = int(rng.choice(open_dead or bands(self.DEAD_EDGES)).split("..")[0])
             dead = low + rng.randrange(min(low, 8000))
-            # MDFQM: one state an update, each update longer than the dead time
-            writes = [run.write(regs.MODULATION, run.modulation_word(mode=0)),
-                      run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
-                      run.write(regs.DEAD, dead)]
-            yield from run.settle(*writes)
-            yield from run.until(lambda: run.coverage.covered(self.DEAD_POINT,
-                                                              band(dead, self.DEAD_EDGES)),
-                                 limit=4 * (dead + 3000) + 1000)
+            # MDFQM: one state an update, each update longer than the dead time, from
+            # integrators near their centre (short updates bring them there first: from an
+            # integrator far out, the same state would win many long updates)
+            yield from run.settle(run.write(regs.MODULATION, run.modulation_word(mode=0)),
+                                  run.write(regs.OSR, 1))
+            yield from run.until(self._integrators_centred, limit=20_000)
+            yield from run.settle(
+                run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
+                run.write(regs.DEAD, dead))
+            yield from self._this_trial_hit(self.DEAD_POINT, band(dead, self.DEAD_EDGES),
+                                            limit=4 * (dead + 3000) + 1000)
         else:
             value = (1 << 15) + rng.randrange(4000)
-            yield from run.settle(run.write(regs.MIN_PULSE, value))
-            hit = yield from run.until(lambda: run.coverage.covered(
-                self.PULSE_POINT, band(value, self.PULSE_EDGES)), limit=3 * value)
+            yield from run.settle(run.write(regs.MIN_PULSE, value), run.write(regs.OSR, 1))
+            hit = yield from self._this_trial_hit(self.PULSE_POINT,
+                                                  band(value, self.PULSE_EDGES), 3 * value)
             if hit:                 # the stretched pulse held to its end
                 yield from run.wait(value + 100)
         yield from run.settle(run.restore(regs.PERIOD, regs.DEAD, regs.MIN_PULSE,
-                                          regs.MODULATION))
+                                          regs.MODULATION, regs.OSR))
+        run.stream.kind = "sine"
+
+    def _integrators_centred(self) -> bool:
+        """Every integrator within one DC bus (N FULL in the N-scaled domain) of zero."""
+        model = self.run.model
+        return max(abs(x) for x in model.core.x) <= model.contract.unit
+
+    def _this_trial_hit(self, point, bin_, limit):
+        """Wait until this trial hits ``bin_`` (a hit of an earlier trial does not count), at
+        most ``limit`` clocks; whether it did."""
+        coverage = self.run.coverage
+        before = coverage.count(point, bin_)
+        return (yield from self.run.until(lambda: coverage.count(point, bin_) > before, limit))
 
 
 class ShortEdges(TopSequence):

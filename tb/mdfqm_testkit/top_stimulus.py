@@ -75,7 +75,8 @@ class Aim:
 class StreamSource:
     """The FOC loop's reference stream: a beat held with its payload until accepted, idle clocks
     between; balanced sines whose amplitude drifts from near zero into overmodulation, with
-    beats of extreme codes and ties mixed in, or the kind a sequence asks for (``kind``);
+    beats of extreme codes and ties mixed in, or the kind a sequence asks for (``kind``: one
+    of them alone, or ``linear``, sines inside the linear range only);
     ``eager`` offers a beat in every clock, ``stalled`` none (a controller that stopped)."""
 
     def __init__(self, run):
@@ -111,6 +112,8 @@ class StreamSource:
             kind = "extreme" if pick < 0.1 else "ties" if pick < 0.2 else "sine"
         if kind == "overmodulation":
             return self.sine_codes(rng.uniform(1.0, 2.0) * lin, rng.uniform(-0.5, 0.5))
+        if kind == "linear":
+            return self.sine_codes(rng.uniform(0.2, 0.9) * lin)
         if kind == "common mode":
             return self.sine_codes(rng.uniform(0.05, 0.6),
                                    rng.choice([-1, 1]) * rng.uniform(0.25, 0.5))
