@@ -21,7 +21,7 @@ from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.top_stimulus import FULL_TOP_RUNS, top_stimulus
 from mdfqm_testkit.vectors import VectorBench
 
-#: (name, top, runs x clocks): 300 000 + 60 000 + 50 000 + 40 000 + 2 x 30 000 = 510 000
+#: (name, top, runs x clocks): 500 000 + 60 000 + 50 000 + 40 000 + 2 x 40 000 = 730 000
 #: checked clocks; the first run long enough for the top octaves of PERIOD, DEAD, MIN_PULSE and
 #: ADC_OFFSET
 CASES = [
@@ -29,8 +29,8 @@ CASES = [
     ("axi4lite_b3", lambda: MdfqmTop(3, 16, bus="axi4lite", max_bits=3), (50_000,)),
     ("mdfqm_only", lambda: MdfqmTop(3, 16, max_bits=0), (40_000,)),
     # a mixed pin polarity pair, both ways round (active-low upper drivers are common)
-    ("upper_low_b2", lambda: MdfqmTop(3, 16, upper_active_low=True, max_bits=2), (30_000,)),
-    ("lower_low_b2", lambda: MdfqmTop(3, 16, lower_active_low=True, max_bits=2), (30_000,)),
+    ("upper_low_b2", lambda: MdfqmTop(3, 16, upper_active_low=True, max_bits=2), (40_000,)),
+    ("lower_low_b2", lambda: MdfqmTop(3, 16, lower_active_low=True, max_bits=2), (40_000,)),
 ]
 
 

@@ -70,8 +70,9 @@ class Sequence:
     """One named sequence of stimulus (see the module docstring).
 
     Subclasses set ``rules`` (the first the one it is named after), ``claims``, ``weight`` (how
-    often the scheduler picks it among those with open bins, and in background traffic) and
-    implement :meth:`coverpoints` and :meth:`body`. ``run`` is the run it acts in."""
+    often the scheduler picks it among those with open bins, and in background traffic),
+    ``closed_weight`` (the same once its bins are all hit, if not ``weight``) and implement
+    :meth:`coverpoints` and :meth:`body`. ``run`` is the run it acts in."""
 
     #: the family's sequences, in definition order (each family's base class has its own)
     registry: ClassVar[list]
@@ -80,6 +81,7 @@ class Sequence:
     rules: ClassVar[tuple[str, ...]] = ()
     claims: ClassVar[frozenset] = frozenset()
     weight: ClassVar[float] = 1.0
+    closed_weight: ClassVar[float | None] = None
 
     def __init_subclass__(cls, family: bool = False, **kwargs):
         super().__init_subclass__(**kwargs)

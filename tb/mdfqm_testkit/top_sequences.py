@@ -45,7 +45,7 @@ PERIOD_BAND_RUN = 100_000
 #: run length from which the top octaves of the 16-bit times are aimed at: PERIOD from 16384,
 #: DEAD and MIN_PULSE from 32768 (LongTimes: an update or a pulse of up to 65,535 clocks, a few
 #: times)
-LONG_TIMES_RUN = 300_000
+LONG_TIMES_RUN = 500_000
 #: bands of the 16-bit ADC_OFFSET at which a trigger pulsed
 ADC_EDGES = (0, 1, 256, 4096, 8192, 32768)
 #: run length from which an update of each ADC band's length fits (its band's first offset,
@@ -339,6 +339,44 @@ class ModulationModes(TopSequence):
         yield from run.settle(run.read(regs.MODULATION))
 
 
+class Handover(TopSequence):
+    """A slot mode and MDFQM alternating update by update, with the fewest-transitions zero
+    policy: an MDFQM update that chooses the zero state right after a layout takes all-on or
+    all-off from the layout's last slot (docs/contract.md, "Zero-state policy"). A bin per leg
+    whose state in that last slot decides the choice (the legs on there one more than half of
+    N: without that leg it would flip)."""
+
+    rules = (doc(CONTRACT_MD, "Zero-state policy"), doc(TOP_MD, "Modulation mode and resolution"))
+    claims = frozenset({MODULATION, CTRL, PERIOD, STREAM})
+    POINT = "MDFQM zero state after a layout, decided by the last slot's"
+
+    @classmethod
+    def applies(cls, run):
+        return run.model.max_bits > 0
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: tuple(f"leg {i}" for i in range(run.model.phases))}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        run.stream.kind = "linear"
+        yield from run.settle(
+            run.write(regs.CTRL, run.nominal[regs.CTRL] | regs.CTRL_ZERO_POLICY),
+            run.write(regs.PERIOD, run.model.long_latency + rng.randint(0, 8)))
+        for _ in range(60):
+            if not run.coverage.open_bins(self.POINT) and rng.random() < 0.2:
+                break
+            layout = run.modulation_word(legal=True, mode=rng.randint(1, len(MODES) - 1),
+                                         bits=rng.randint(1, min(3, run.model.max_bits)))
+            yield from run.settle(run.write(regs.MODULATION, layout))
+            yield from run.updates(1)
+            yield from run.settle(run.write(regs.MODULATION, run.modulation_word(mode=0)))
+            yield from run.updates(1)
+        yield from run.settle(run.restore(regs.MODULATION, regs.CTRL, regs.PERIOD))
+        run.stream.kind = "sine"
+
+
 class ModulationClamp(TopSequence):
     """MODULATION written with a mode not built in, b 0, b above max_bits, bits outside its
     fields: the request clamped at the next update start (STATUS.MODE_CLAMPED), read back in
@@ -501,18 +539,22 @@ class LongTimes(TopSequence):
     """DEAD and MIN_PULSE in the high octaves of their 16-bit fields, where they decide the
     gates: a turn-on after a dead time of DEAD clocks (the updates longer than it, in MDFQM, so
     that a leg's command holds through its dead time), and a pulse held on to a MIN_PULSE of
-    more than 32,768 clocks; in runs long enough for a few such times. The gates stay enabled,
-    with no fault or watchdog trip, and the reference stays in the linear range, a new beat
-    each update (OSR 1), meanwhile: an integrator held at its limit by a reference beyond it
-    (docs/robustness.md) would keep one state through every update of a trial, with no turn-on
-    to see."""
+    more than 32,768 clocks; in runs long enough for a few such times. Half the dead-time
+    trials (each octave at least once) lower DEAD to dead_min while that long dead time runs:
+    the turn-on still waits it out (docs/top.md, "Dead time in force"). The gates stay enabled,
+    with no fault or watchdog trip, and the reference reverses every beat inside the linear
+    range, a new beat each update (OSR 1), meanwhile: the state changes at nearly every update,
+    where a reference beyond the linear range could hold an integrator at its limit
+    (docs/robustness.md) and one state through every update of a trial, with no turn-on to
+    see."""
 
     rules = (rdl("DEAD.DEAD"), rdl("MIN_PULSE.MIN_PULSE"), doc(TOP_MD, "Gate driver (per leg)"))
     claims = frozenset({PERIOD, DEAD, MODULATION, SYNC, STREAM, OSR, CTRL, FAULT, WATCHDOG})
-    #: a trial holds most of the top for updates of up to 65,535 clocks: drawn mostly while
-    #: one of its bins is open
-    weight = 0.25
+    #: a trial holds most of the top for updates of up to 65,535 clocks: seldom drawn once
+    #: its bins are all hit
+    closed_weight = 0.1
     DEAD_POINT = "DEAD in force at a turn-on"
+    LOWERED = "DEAD lowered while a long dead time runs, that dead time in"
     PULSE_POINT = "a pulse stretched to a MIN_PULSE in"
     #: the octaves aimed at: the dead time's compare and count in their high bits
     DEAD_EDGES = (2048, 32768)
@@ -525,27 +567,22 @@ class LongTimes(TopSequence):
     @classmethod
     def coverpoints(cls, run):
         return {cls.DEAD_POINT: tuple(bands(cls.DEAD_EDGES)),
+                cls.LOWERED: tuple(bands(cls.DEAD_EDGES)),
                 cls.PULSE_POINT: tuple(bands(cls.PULSE_EDGES))}
 
     def body(self):
         run, rng = self.run, self.rng
-        run.stream.kind = "linear"
-        open_dead = run.coverage.open_bins(self.DEAD_POINT)
-        if open_dead or (not run.coverage.open_bins(self.PULSE_POINT) and rng.random() < 0.5):
-            low = int(rng.choice(open_dead or bands(self.DEAD_EDGES)).split("..")[0])
-            dead = low + rng.randrange(min(low, 8000))
-            # MDFQM: one state an update, each update longer than the dead time, from
-            # integrators near their centre (short updates bring them there first: from an
-            # integrator far out, the same state would win many long updates)
-            yield from run.settle(run.write(regs.MODULATION, run.modulation_word(mode=0)),
-                                  run.write(regs.OSR, 1))
-            yield from run.until(self._integrators_centred, limit=20_000)
-            yield from run.settle(
-                run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
-                run.write(regs.DEAD, dead))
-            yield from self._this_trial_hit(self.DEAD_POINT, band(dead, self.DEAD_EDGES),
-                                            limit=4 * (dead + 3000) + 1000)
-        else:
+        # the state changes at (nearly) every update: a dead time at each boundary
+        run.stream.kind = "reversing"
+        open_dead = (run.coverage.open_bins(self.DEAD_POINT)
+                     or run.coverage.open_bins(self.LOWERED))
+        dead_trial = bool(open_dead) or (not run.coverage.open_bins(self.PULSE_POINT)
+                                         and rng.random() < 0.5)
+        if dead_trial:
+            yield from self._long_dead_time(rng.choice(open_dead or bands(self.DEAD_EDGES)))
+        if not dead_trial or run.coverage.open_bins(self.PULSE_POINT):
+            # short updates again (a pulse shorter than MIN_PULSE is one the update ends)
+            yield from run.settle(run.restore(regs.PERIOD, regs.DEAD))
             value = (1 << 15) + rng.randrange(4000)
             yield from run.settle(run.write(regs.MIN_PULSE, value), run.write(regs.OSR, 1))
             hit = yield from self._this_trial_hit(self.PULSE_POINT,
@@ -555,6 +592,32 @@ class LongTimes(TopSequence):
         yield from run.settle(run.restore(regs.PERIOD, regs.DEAD, regs.MIN_PULSE,
                                           regs.MODULATION, regs.OSR))
         run.stream.kind = "sine"
+
+    def _long_dead_time(self, octave: str):
+        """A turn-on after a dead time of DEAD in ``octave`` (lowered to dead_min while it
+        runs in half the trials and while that octave's bin is open)."""
+        run, rng = self.run, self.rng
+        low = int(octave.split("..")[0])
+        dead = low + rng.randrange(min(low, 8000))
+        # MDFQM: one state an update, each update longer than the dead time, from integrators
+        # near their centre (short updates bring them there first: from an integrator far
+        # out, the same state would win many long updates)
+        yield from run.settle(run.write(regs.MODULATION, run.modulation_word(mode=0)),
+                              run.write(regs.OSR, 1))
+        yield from run.until(self._integrators_centred, limit=20_000)
+        yield from run.settle(run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
+                              run.write(regs.DEAD, dead))
+        if octave in run.coverage.open_bins(self.LOWERED) or rng.random() < 0.5:
+            # a dead time of DEAD clocks lowered while it runs: it must not end early
+            legs = run.model.driver.legs
+            running = yield from run.until(
+                lambda: run.model.driver.active and any(
+                    not (leg.up or leg.lo) and leg.dt_run == dead and leg.cnt > 16
+                    for leg in legs), limit=2 * (dead + 3000))
+            if running:
+                yield from run.settle(run.write(regs.DEAD, run.model.dead_min))
+        yield from self._this_trial_hit(self.DEAD_POINT, band(dead, self.DEAD_EDGES),
+                                        limit=4 * (dead + 3000) + 1000)
 
     def _integrators_centred(self) -> bool:
         """Every integrator within one DC bus (N FULL in the N-scaled domain) of zero."""
@@ -827,23 +890,43 @@ class Watchdog(TopSequence):
              rdl("WATCHDOG_TRIPS.TRIPS"), rdl("CMD.WATCHDOG_CLEAR"), rdl("STATUS.WATCHDOG"))
     claims = frozenset({WATCHDOG, STREAM, REF, PERIOD})
     POINT = "watchdog"
+    OCTAVES = "tripped at a TIMEOUT in"
+
+    @classmethod
+    def octave_edges(cls, run) -> tuple[int, ...]:
+        """Octaves of TIMEOUT that trip (each sets its bit of the quiet count the trip needs),
+        to 2**8, in runs long enough for their quiet updates (none in shorter ones)."""
+        return tuple(1 << k for k in range(9)) if run.cycles >= PERIOD_BAND_RUN else ()
 
     @classmethod
     def coverpoints(cls, run):
-        return {cls.POINT: ("tripped at TIMEOUT 1", "tripped at TIMEOUT 2..7",
-                            "tripped at TIMEOUT 8..", "a reference in the tripping start's "
-                            "clock", "TIMEOUT lowered below the quiet count",
-                            "cleared", "STATUS.WATCHDOG read 1")}
+        points = {cls.POINT: ("tripped at TIMEOUT 1", "tripped at TIMEOUT 2..7",
+                              "tripped at TIMEOUT 8..", "a reference in the tripping start's "
+                              "clock", "TIMEOUT lowered below the quiet count",
+                              "cleared", "STATUS.WATCHDOG read 1")}
+        edges = cls.octave_edges(run)
+        return {**points, cls.OCTAVES: tuple(bands(edges))} if edges else points
 
     def body(self):
         run, rng = self.run, self.rng
         model = run.model
-        pick = rng.choice(run.coverage.open_bins(self.POINT) or ["tripped at TIMEOUT 1"])
-        timeout = {"tripped at TIMEOUT 1": 1, "tripped at TIMEOUT 8..": rng.choice([8, 9, 13]),
-                   "TIMEOUT lowered below the quiet count": 8}.get(pick, rng.randint(2, 7))
-        yield from run.settle(run.write(regs.PERIOD, rng.choice([90, rng.randint(20, 40)])),
-                              run.write(regs.WATCHDOG, timeout))
+        octaves = run.coverage.open_bins(self.OCTAVES)
+        # the octaves first: a trip in each also covers the TIMEOUT bins of the point
+        pick = rng.choice(octaves or run.coverage.open_bins(self.POINT)
+                          or ["tripped at TIMEOUT 1"])
+        if pick in octaves:             # a TIMEOUT inside that octave
+            low = int(pick.split("..")[0])
+            timeout = low + rng.randrange(low)
+        else:
+            timeout = {"tripped at TIMEOUT 1": 1, "tripped at TIMEOUT 8..": rng.choice([8, 9, 13]),
+                       "TIMEOUT lowered below the quiet count": 8}.get(pick, rng.randint(2, 7))
+        # short updates for the long timeouts (a trip takes TIMEOUT of them)
+        period = rng.randint(20, 40) if pick in octaves else rng.choice([90, rng.randint(20, 40)])
+        yield from run.settle(run.write(regs.PERIOD, period), run.write(regs.WATCHDOG, timeout))
         run.stream.stalled = True
+        if pick in octaves:             # the quiet updates first, then the polling below
+            yield from run.until(lambda: model.wd_quiet + 2 >= timeout or model.wd_tripped,
+                                 limit=(timeout + 2) * (period + 8))
         if pick == "TIMEOUT lowered below the quiet count":
             yield from run.until(lambda: model.wd_quiet >= 3, limit=5000)
             yield from run.settle(run.write(regs.WATCHDOG, rng.randint(1, 2)))
@@ -937,7 +1020,8 @@ class FaultReaction(TopSequence):
 class IrqService(TopSequence):
     """Interrupt service as firmware does it: IRQ_ENABLE written (undefined bits too), irq
     raised by each source, IRQ_STATUS read and written 1 to clear, also in the very clock of a
-    new event of that source (the event wins)."""
+    new event of that source (the event wins); a source that has not raised irq yet is
+    provoked the same way."""
 
     rules = (robustness("IRQ_ENABLE with undefined bits"), doc(TOP_MD, "Interrupt"),
              *(rdl(f"IRQ_ENABLE.{name}") for name in IRQ_SOURCES),
@@ -947,6 +1031,7 @@ class IrqService(TopSequence):
     RAISED = "irq raised by"
     SAME_CLOCK = "IRQ_STATUS cleared in the clock of a new event of"
     UNDEFINED = "undefined bits written"
+    SAME_CLOCK_SOURCES = ("FAULT", "SAMPLE", "SHORT_EDGE", "WATCHDOG")
 
     @classmethod
     def sources(cls, run):
@@ -957,13 +1042,16 @@ class IrqService(TopSequence):
     def coverpoints(cls, run):
         sources = cls.sources(run)
         return {cls.SET: tuple(sources), cls.RAISED: tuple(sources),
-                cls.SAME_CLOCK: ("FAULT", "SAMPLE", "SHORT_EDGE", "WATCHDOG"),
+                cls.SAME_CLOCK: cls.SAME_CLOCK_SOURCES,
                 cls.UNDEFINED: ("IRQ_ENABLE", "IRQ_STATUS")}
 
     def __init__(self, run):
         super().__init__(run)
-        same = run.coverage.open_bins(self.SAME_CLOCK)
-        self.source = self.rng.choice(same) if same else None
+        # a source whose bins are open is provoked: its event aimed at a clear of its bit
+        pool = run.coverage.open_bins(self.SAME_CLOCK) or [
+            name for name in run.coverage.open_bins(self.RAISED)
+            if name in self.SAME_CLOCK_SOURCES]
+        self.source = self.rng.choice(pool) if pool else None
         self.claims = frozenset({IRQ} | {"FAULT": {FAULT},
                                          "WATCHDOG": {WATCHDOG, STREAM, REF, PERIOD},
                                          "SHORT_EDGE": {MODULATION, PERIOD},

@@ -26,7 +26,7 @@ from mdfqm_model.top import TopModel
 from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.bus import mapped_words
-from mdfqm_spec.contract import MODES, latch_mode, min_period
+from mdfqm_spec.contract import FEWEST_TRANSITIONS, MODES, latch_mode, min_period
 from mdfqm_testkit import top_sequences as seq
 from mdfqm_testkit.bbit_stimulus import boundary_codes, tie_codes
 from mdfqm_testkit.bus_masters import MASTERS, Access
@@ -76,7 +76,8 @@ class StreamSource:
     """The FOC loop's reference stream: a beat held with its payload until accepted, idle clocks
     between; balanced sines whose amplitude drifts from near zero into overmodulation, with
     beats of extreme codes and ties mixed in, or the kind a sequence asks for (``kind``: one
-    of them alone, or ``linear``, sines inside the linear range only);
+    of them alone; ``linear``, sines inside the linear range only; ``reversing``, a vector
+    inside it that turns by half a turn every beat);
     ``eager`` offers a beat in every clock, ``stalled`` none (a controller that stopped)."""
 
     def __init__(self, run):
@@ -114,6 +115,9 @@ class StreamSource:
             return self.sine_codes(rng.uniform(1.0, 2.0) * lin, rng.uniform(-0.5, 0.5))
         if kind == "linear":
             return self.sine_codes(rng.uniform(0.2, 0.9) * lin)
+        if kind == "reversing":          # each beat the last one's opposite
+            self.angle += math.pi
+            return self.sine_codes(0.9 * lin)
         if kind == "common mode":
             return self.sine_codes(rng.uniform(0.05, 0.6),
                                    rng.choice([-1, 1]) * rng.uniform(0.25, 0.5))
@@ -395,8 +399,11 @@ class TopRun(Waits):
             return
         weights = []
         for sequence in self.sequences:
-            open_ = any(self.coverage.is_open(p) for p in self.points[sequence])
-            weights.append(sequence.weight * (OPEN_BOOST if open_ else 1.0))
+            if any(self.coverage.is_open(p) for p in self.points[sequence]):
+                weights.append(sequence.weight * OPEN_BOOST)
+            else:
+                weights.append(sequence.weight if sequence.closed_weight is None
+                               else sequence.closed_weight)
         if not any(weights):
             return
         chosen = self.rng.choices(self.sequences, weights)[0](self)
@@ -530,6 +537,15 @@ class Monitor:
         fault_pin_edge = run.fault_in and not self.last_fault_in
         latch_set = bool(driver.fault_input and not driver.fault)
         facts = {"start": start, "turn_on": turn_on, "irq_status": m.irq_status,
+                 # the dead time each leg's turn-on (seen a clock later) waited: the one in
+                 # force when its switches went off, or a longer one since
+                 "waited": [max(leg.dt_run, driver.dead_in_force) for leg in driver.legs],
+                 # the update committing in this clock: its zero policy, and the last slot's
+                 # state of the layout before it (generator only)
+                 "commit_policy": (core.inflight[3] if core.inflight is not None
+                                   and core.inflight[0] == 1 else None),
+                 "h_last": getattr(core, "h_last", 0),
+                 "after_layout": len(getattr(core, "slots", ())) > 1,
                  "irq": m.irq, "reaction": driver.reaction, "write": write,
                  "period": m.period, "mode_request": m.mode_request,
                  "bits_request": m.bits_request, "rst": rst,
@@ -585,6 +601,9 @@ class Monitor:
             timeout = m.wd_timeout
             self.hit(seq.Watchdog.POINT, "tripped at TIMEOUT 1" if timeout == 1 else
                      "tripped at TIMEOUT 2..7" if timeout < 8 else "tripped at TIMEOUT 8..")
+            edges = seq.Watchdog.octave_edges(run)
+            if edges and m.wd_quiet == timeout:     # not lowered below it: the count ran to it
+                self.hit(seq.Watchdog.OCTAVES, band(timeout, edges))
             arrival = beat or (write is not None and write[0] == regs.CMD
                                and write[1] & regs.CMD_REF_COMMIT)
             if arrival:
@@ -693,6 +712,9 @@ class Monitor:
                     edges = seq.DeadTime.running_edges(run)
                     if running >= edges[0]:
                         self.hit(seq.DeadTime.RUNNING, band(running, edges))
+                    if running >= seq.LongTimes.DEAD_EDGES[0]:
+                        self.hit(seq.LongTimes.LOWERED,
+                                 band(running, seq.LongTimes.DEAD_EDGES))
             self.dead_written = True
         if address == regs.CTRL and not m.core.update:
             was, now = m.ctrl & regs.CTRL_ENABLE, value & regs.CTRL_ENABLE
@@ -805,6 +827,13 @@ class Monitor:
                     self.hit(point, "b above max_bits")
         if core.update and core.saturated:
             self.hit(seq.Overmodulation.POINT, "an update saturated")
+        if (core.update and m.max_bits and len(core.slots) == 1 and facts["after_layout"]
+                and facts["commit_policy"] == FEWEST_TRANSITIONS
+                and core.h == (1 << m.phases) - 1
+                and facts["h_last"].bit_count() == m.phases // 2 + 1):
+            for i in range(m.phases):
+                if (facts["h_last"] >> i) & 1:
+                    self.hit(seq.Handover.POINT, f"leg {i}")
         if core.phase == 0 and getattr(self, "setting_written", None):
             self.hit(seq.RuntimeChanges.BEFORE, self.setting_written)
         self.setting_written = None
@@ -822,9 +851,10 @@ class Monitor:
                     if driver.min_pulse_seen >= seq.LongTimes.PULSE_EDGES[0]:
                         self.hit(seq.LongTimes.PULSE_POINT,
                                  band(driver.min_pulse_seen, seq.LongTimes.PULSE_EDGES))
-        if facts["turn_on"] and driver.dead_in_force >= seq.LongTimes.DEAD_EDGES[0]:
-            self.hit(seq.LongTimes.DEAD_POINT,
-                     band(driver.dead_in_force, seq.LongTimes.DEAD_EDGES))
+        waited = max((facts["waited"][i] for i in range(m.phases)
+                      if (facts["turn_on"] >> i) & 1), default=0)
+        if waited >= seq.LongTimes.DEAD_EDGES[0]:
+            self.hit(seq.LongTimes.DEAD_POINT, band(waited, seq.LongTimes.DEAD_EDGES))
         # interrupts
         new = m.irq_status & ~facts["irq_status"]
         for name, bit in seq.IRQ_SOURCES.items():
