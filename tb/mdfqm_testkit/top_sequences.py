@@ -114,19 +114,32 @@ class Operate(TopSequence):
 
 class PeriodBands(TopSequence):
     """PERIOD in each band of its 16-bit field, in force at an update start and held for an
-    update at least; the longest bands only where the run has room for them."""
+    update at least; the longest bands only where the run has room for them. An update of 256
+    clocks or more is cut short by a sync pulse at a phase just past the band's power of two
+    (from there to L - 2 past it: the update has committed, and sync_in starts the next one,
+    docs/top.md "Several instances") while that bin is open, and half the time after."""
 
-    rules = (rdl("PERIOD.PERIOD"), doc(TOP_MD, "Update timing and the ADC trigger"))
+    rules = (rdl("PERIOD.PERIOD"), doc(TOP_MD, "Update timing and the ADC trigger"),
+             doc(TOP_MD, "Several instances"))
     claims = frozenset({PERIOD, SYNC})
     POINT = "PERIOD in force at an update start"
+    SYNC_POINT = "sync pulse starts the next update at a phase just past"
+
+    @staticmethod
+    def sync_edges(run) -> list[int]:
+        """The powers of two of an update's phase that a sync is aimed just past."""
+        return [e for e in period_edges(run) if e >= 256]
 
     @classmethod
     def coverpoints(cls, run):
-        return {cls.POINT: (*bands(period_edges(run)), "below the minimum")}
+        return {cls.POINT: (*bands(period_edges(run)), "below the minimum"),
+                cls.SYNC_POINT: tuple(str(e) for e in cls.sync_edges(run))}
 
     def body(self):
         run, rng = self.run, self.rng
-        wanted = run.coverage.open_bins(self.POINT) or ["short"]
+        syncs = [b for b in bands(period_edges(run))
+                 if b.split("..")[0] in run.coverage.open_bins(self.SYNC_POINT)]
+        wanted = run.coverage.open_bins(self.POINT) or syncs or ["short"]
         choice = rng.choice(wanted)
         if choice == "below the minimum":
             value = rng.randrange(run.model.latency)
@@ -137,6 +150,14 @@ class PeriodBands(TopSequence):
             value = lo + rng.randrange(min(600, lo))
         yield from run.settle(run.write(regs.PERIOD, value), run.read(regs.PERIOD))
         yield from run.updates(1, limit=3 * 65536)          # taken at that start
+        edge = max((e for e in self.sync_edges(run) if e <= value), default=None)
+        phase = None if edge is None else edge + rng.randrange(run.model.latency - 1)
+        if phase is not None and phase + 2 < value and (
+                str(edge) in run.coverage.open_bins(self.SYNC_POINT) or rng.random() < 0.5):
+            core = run.model.core
+            if (yield from run.until(lambda: core.phase == phase, limit=phase + 1)):
+                run.sync_in = 1
+                yield
         if value >= 4096:           # long updates cost clocks: back to a short operating point
             value = short_period(run)
             yield from run.settle(run.write(regs.PERIOD, value))

@@ -580,6 +580,9 @@ class Monitor:
             threshold = m.long_latency if getattr(core, "long_lat", 0) else m.latency
             if not start and core.phase + 1 >= threshold:
                 self.hit(seq.SyncPulses.POINT, "starts the next update")
+                for edge in seq.PeriodBands.sync_edges(run):
+                    if edge <= core.phase <= edge + m.latency - 2:
+                        self.hit(seq.PeriodBands.SYNC_POINT, str(edge))
                 if getattr(core, "mode_lat", 0):
                     self.hit(seq.SyncPulses.POINT, "starts the next update in a slot mode")
             else:
