@@ -111,6 +111,11 @@ def band(value: int, edges: Iterable[int]) -> str:
     raise ValueError(f"{value} below the first band ({edges[0]})")
 
 
+def band_low(name: str) -> int:
+    """The lowest value of the band :func:`band` named ``name``."""
+    return int(name.split("..")[0])
+
+
 def bands(edges: Iterable[int]) -> list[str]:
     """The names :func:`band` gives to the bands between ``edges``."""
     edges = list(edges)

@@ -12,7 +12,7 @@ from typing import ClassVar
 
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES, min_period
-from mdfqm_testkit.coverage import band, bands
+from mdfqm_testkit.coverage import band, band_low, bands
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Sequence, doc, rdl, robustness
 
@@ -138,7 +138,7 @@ class PeriodBands(TopSequence):
     def body(self):
         run, rng = self.run, self.rng
         syncs = [b for b in bands(period_edges(run))
-                 if b.split("..")[0] in run.coverage.open_bins(self.SYNC_POINT)]
+                 if str(band_low(b)) in run.coverage.open_bins(self.SYNC_POINT)]
         wanted = run.coverage.open_bins(self.POINT) or syncs or ["short"]
         choice = rng.choice(wanted)
         if choice == "below the minimum":
@@ -146,7 +146,7 @@ class PeriodBands(TopSequence):
         elif choice == "short":
             value = short_period(run)
         else:                       # above the loop latency, so that it is not clamped
-            lo = max(int(choice.split("..")[0]), run.model.latency)
+            lo = max(band_low(choice), run.model.latency)
             value = lo + rng.randrange(min(600, lo))
         yield from run.settle(run.write(regs.PERIOD, value), run.read(regs.PERIOD))
         yield from run.updates(1, limit=3 * 65536)          # taken at that start
@@ -459,7 +459,7 @@ class AdcOffsetBands(TopSequence):
         if pick == self.NONE:
             offset = max(period, run.model.long_latency) + rng.randrange(4)
         else:
-            low = int(pick.split("..")[0])
+            low = band_low(pick)
             offset = low + rng.randrange(min(400, max(1, low)) if low else 1)
             if offset >= period - 2:
                 period = offset + rng.randint(2, 200)
@@ -518,7 +518,7 @@ class DeadTime(TopSequence):
         else:
             if pick.startswith("lowered"):      # from a dead time in one of the octaves
                 octave = rng.choice(running_open or bands(self.running_edges(run)))
-                low = int(octave.split("..")[0])
+                low = band_low(octave)
                 now = max(dead_min + 2, low + rng.randrange(low))
                 yield from run.settle(run.write(regs.DEAD, now))
                 yield from run.wait(2)
@@ -618,7 +618,7 @@ class LongTimes(TopSequence):
         """A turn-on after a dead time of DEAD in ``octave`` (lowered to dead_min while it
         runs in half the trials and while that octave's bin is open)."""
         run, rng = self.run, self.rng
-        low = int(octave.split("..")[0])
+        low = band_low(octave)
         dead = low + rng.randrange(min(low, 8000))
         # MDFQM: one state an update, each update longer than the dead time, from integrators
         # near their centre (short updates bring them there first: from an integrator far
@@ -936,7 +936,7 @@ class Watchdog(TopSequence):
         pick = rng.choice(octaves or run.coverage.open_bins(self.POINT)
                           or ["tripped at TIMEOUT 1"])
         if pick in octaves:             # a TIMEOUT inside that octave
-            low = int(pick.split("..")[0])
+            low = band_low(pick)
             timeout = low + rng.randrange(low)
         else:
             timeout = {"tripped at TIMEOUT 1": 1, "tripped at TIMEOUT 8..": rng.choice([8, 9, 13]),
