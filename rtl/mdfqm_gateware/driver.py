@@ -115,7 +115,8 @@ class LegDriver(wiring.Component):
         # this one; the count itself is the proofs' (built with formal=True only)
         count_next = Signal(tw + 1, init=2)
         dt_run = Signal(tw, reset_less=True)
-        # registered decisions: count >= max(dt_run, dead_seen, dead_min), count < min_pulse_seen
+        # registered decisions: count >= max(dt_run, dead_seen, dead_min) (read while off only),
+        # count < min_pulse_seen
         dead_elapsed = Signal(reset_less=True)
         pulse_short = Signal(reset_less=True)
         dt = Signal(tw)
@@ -149,14 +150,16 @@ class LegDriver(wiring.Component):
         restart = Signal()
         m.d.comb += restart.eq(rst | (on ^ (nxt_up | nxt_lo)))
 
-        def decisions(c):
-            """(dead_elapsed, pulse_short) of the next clock if its count is ``c``: dt_run
-            of the next clock is dt (this one's) while on; every compare side by side."""
-            run_ok = Mux(on, c >= dead_seen, c >= dt_run)
+        def decisions(c, run_ok):
+            """(dead_elapsed, pulse_short) of the next clock if its count is ``c`` and
+            ``run_ok`` is its ``c >= dt_run``; every compare side by side."""
             return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
 
-        elapsed_restart, short_restart = decisions(1)
-        elapsed_hold, short_hold = decisions(count_next)
+        # a restart from on: dt_run of the next clock is dt (this one's)
+        elapsed_restart, short_restart = decisions(1, Mux(on, dead_seen <= 1, dt_run <= 1))
+        # a state held: dead_elapsed of an on state is never read (the next state of an on leg
+        # does not depend on it), so only an off state's matters, whose dt_run stays
+        elapsed_hold, short_hold = decisions(count_next, count_next >= dt_run)
         m.d.sync += [
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
@@ -191,8 +194,9 @@ class LegDriver(wiring.Component):
             Assert((count >= 1) & (count <= top + 1), "invariant: count in range"),
             Assert(count_next == Mux(count == top + 1, top + 1, count + 1),
                    "invariant: count_next is the next count"),
-            Assert(dead_elapsed == ((count >= dt) & (count >= dt_run)),
-                   "invariant: dead_elapsed is the dead-time compare"),
+            Assert(self.upper | self.lower
+                   | (dead_elapsed == ((count >= dt) & (count >= dt_run))),
+                   "invariant: dead_elapsed is the dead-time compare while off"),
             Assert(pulse_short == (count < min_pulse_seen),
                    "invariant: pulse_short is the minimum-pulse compare"),
         ]
