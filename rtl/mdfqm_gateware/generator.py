@@ -138,7 +138,7 @@ class GatingSignalGenerator(wiring.Component):
 
         # a slot mode has b >= 1: a slot is at most half the longest period (an MDFQM update
         # loads the layout's count too, unused: no slot follows its state)
-        slot_len = Signal(len(self.period) - 1)
+        slot_len = Signal(len(self.period))
         slot_m2 = Signal(signed(len(self.period)))
         bbit = sequencer.mode_lat != 0
         commit = Mux(sequencer.long, quantiser.o_valid, decoder.o_valid)
@@ -171,10 +171,18 @@ class GatingSignalGenerator(wiring.Component):
             self.mode_in_force.eq(sequencer.mode_lat),
             self.bits_in_force.eq(sequencer.bits_lat),
         ]
+        # slot length of the update in flight, P >> b, shifted one bit a clock from the
+        # update's second clock on (P and b are still from there): b <= max_bits shifts end
+        # long before the update commits
+        first = Signal()
+        shifts = Signal(BITS_WIDTH)
+        m.d.sync += first.eq(sequencer.start)
+        with m.If(first):
+            m.d.sync += [slot_len.eq(sequencer.p_lat), shifts.eq(sequencer.bits_lat)]
+        with m.Elif(shifts != 0):
+            m.d.sync += [slot_len.eq(slot_len >> 1), shifts.eq(shifts - 1)]
         m.d.sync += [
             self.update.eq(commit),
-            # slot length of the update in flight: P and b are still from its start on
-            slot_len.eq(sequencer.p_lat >> sequencer.bits_lat),
             slot_m2.eq(slot_len - 2),
         ]
         with m.If(commit):
