@@ -135,13 +135,14 @@ USER_TOP = """`timescale 1ns/1ps
 module user_top(input clk, input rst, input [47:0] payload, input [7:0] wide,
                 output [2:0] h, output [3:0] narrow, output reg flag = 1'b0);
     wire ready, update, start, sample, saturated, clamped;
+    wire [15:0] elapsed;
     always @(posedge clk) flag <= !flag;
     assign narrow = wide;
     mdfqm_core_n3_w16 core (
         .clk(clk), .rst(rst), .ref__payload(payload), .ref__valid(1'b1), .ref__ready(ready),
         .period(16'd100), .osr(8'd4), .zero_policy(1'b0), .sync_in(1'b0), .h(h),
         .update(update), .start(start), .sample(sample), .saturated(saturated),
-        .period_clamped(clamped));
+        .period_clamped(clamped), .elapsed(elapsed));
 endmodule
 """
 

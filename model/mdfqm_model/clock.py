@@ -11,7 +11,8 @@ Registers (all reset synchronously to zero)
   runtime inputs are latched: ``P = max(period, L)``, ``period_clamped <= (period < L)``
   (a register, visible from the next cycle), ``osr = max(osr, 1)``, ``zero_policy``.
   Next ``phase`` = 0 if ``phase + 1 >= P`` else ``phase + 1``, with ``P`` the value latched at the
-  start of the current update (in the start cycle itself: the value being latched).
+  start of the current update (in the start cycle itself: the value being latched). The output
+  ``elapsed`` is ``phase``: the clocks since the update start.
 - ``sync_in`` (instances sharing update boundaries): high in a cycle whose ``phase + 1 >= L``
   (the update in flight has committed by the next cycle) makes the next cycle an update start;
   earlier in an update it is ignored, so it can never cut an update short. ``start`` (output) is
@@ -71,7 +72,8 @@ from .update import mdfqm_update, remove_common_mode
 __all__ = ["GENERATOR_OUTPUTS", "OSR_MAX", "OUTPUTS", "PERIOD_MAX", "CoreModel", "GeneratorModel"]
 
 #: names of the per-cycle outputs, in the order of :meth:`CoreModel.step`'s dict
-OUTPUTS = ("ref_ready", "start", "sample", "h", "update", "saturated", "period_clamped")
+OUTPUTS = ("ref_ready", "start", "sample", "h", "update", "saturated", "period_clamped",
+           "elapsed")
 #: the generator's outputs: the core's, ``mode_clamped`` and the mode and b in force
 GENERATOR_OUTPUTS = (*OUTPUTS, "mode_clamped", "mode_in_force", "bits_in_force")
 #: the runtime inputs every model takes (the generator adds ``mode`` and ``bits``)
@@ -144,6 +146,7 @@ class CoreModel:
             "update": self.update,
             "saturated": self.saturated,
             "period_clamped": self.period_clamped,
+            "elapsed": self.phase,
         }
 
     def _check_ref(self, ref: Sequence[int]) -> tuple[int, ...]:

@@ -55,6 +55,10 @@ class MdfqmCore(wiring.Component):
         The last update hit the integrator bound and held the integrators (overmodulation).
     period_clamped : Out(1)
         The requested period was below ``latency`` at the last update start.
+    elapsed : Out(16)
+        Clocks since the last update start: 0 in a start cycle (``start`` high), then 1, 2, ...
+        up to the period minus one (combinational from registers): an ADC trigger or any
+        event at a fixed offset into the update compares with it.
 
     Parameters
     ----------
@@ -115,6 +119,7 @@ def loop_ports(phases: int, width: int, extra_inputs=None, extra_outputs=None) -
         "sample": Out(1),
         "saturated": Out(1),
         "period_clamped": Out(1),
+        "elapsed": Out(16),
         **(extra_outputs or {}),
     }
 
@@ -161,6 +166,7 @@ def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamesp
         component.sample.eq(sequencer.tick),
         component.saturated.eq(integrator.o_saturated),
         component.period_clamped.eq(sequencer.period_clamped),
+        component.elapsed.eq(sequencer.elapsed),
     ]
     m.d.sync += sort1.i_valid.eq(sequencer.start)
     return SimpleNamespace(reference=reference, integrator=integrator, sort1=sort1,

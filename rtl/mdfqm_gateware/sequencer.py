@@ -7,6 +7,8 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period, signed_bits
 from mdfqm_spec.validate import validate_positive
 
+from .arith import at_least
+
 __all__ = ["UpdateSequencer"]
 
 
@@ -37,6 +39,9 @@ class UpdateSequencer(wiring.Component):
         ``zero_policy`` as latched at the last update start (registered).
     period_clamped : Out(1)
         ``period < latency`` at the last update start (registered).
+    elapsed : Out(period_width)
+        Clocks since the last update start: 0 in a start cycle, then 1, 2, ... (combinational
+        from registers).
 
     With ``long_latency`` (the gating-signal generator, ``docs/contract.md`` section
     "b-bit pulse-width resolution") the sequencer also latches ``mode`` and ``bits`` with the
@@ -92,6 +97,7 @@ class UpdateSequencer(wiring.Component):
             "tick": Out(1),
             "policy": Out(1),
             "period_clamped": Out(1),
+            "elapsed": Out(period_width),
         }
         if long_latency is not None:
             validate_positive(long_latency, "long_latency", minimum=latency)
@@ -122,7 +128,8 @@ class UpdateSequencer(wiring.Component):
         # incremented so that the wrap test is one compare, with no adder in front of it
         sub_p1 = Signal(self.osr_width, init=1)
         start_q, tick_q = Signal(init=1), Signal(init=1)
-        m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q)]
+        m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q),
+                     self.elapsed.eq(Mux(start_q, 0, phase))]
 
         if self.long_latency is None:
             clamped = self.period < self.latency
@@ -173,8 +180,8 @@ class UpdateSequencer(wiring.Component):
         # minimum period of a long update for each code of b_now (padded: a complete case)
         table = [min_period(True, min(b, self.max_bits), short, long_lat)
                  for b in range(1 << BITS_WIDTH)]
-        below = Array(self.period < v for v in table)[b_now]
-        clamped = Mux(long_now, below, self.period < short)
+        below = Array(~at_least(self.period, v) for v in table)[b_now]
+        clamped = Mux(long_now, below, ~at_least(self.period, short))
         minimum = Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)
         # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0.
         # count is negative for at most the minimum's clocks before the next start reloads it

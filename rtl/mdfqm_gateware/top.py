@@ -227,8 +227,6 @@ class MdfqmTop(wiring.Component):
         wd_trips = Signal(16)
         reaction_fault = Signal(2)
         reaction_watchdog = Signal(2)
-        # no saturation: every update ends before the count could wrap (ADC_COUNTER_WIDTH)
-        adc_cnt = Signal(regmap.ADC_COUNTER_WIDTH)
 
         # ---------------------------------------------------------------- register port
         cmd = Signal(5)
@@ -391,12 +389,8 @@ class MdfqmTop(wiring.Component):
                      self.irq.eq((irq_status & irq_enable).any())]
 
         # ---------------------------------------------------------------- ADC trigger
-        elapsed = Signal(regmap.ADC_COUNTER_WIDTH)
-        m.d.comb += elapsed.eq(Mux(core.start, 0, adc_cnt))
-        m.d.sync += [
-            adc_cnt.eq(elapsed + 1),
-            self.adc_trigger.eq(elapsed == adc_offset),
-        ]
+        # the update's own clock count (the sequencer's): no counter of its own
+        m.d.sync += self.adc_trigger.eq(core.elapsed == adc_offset)
 
         if self.formal:
             self._properties(m, ctrl, dead, driver, (events, total, count_clear), irq_formal)

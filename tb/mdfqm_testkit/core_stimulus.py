@@ -22,7 +22,8 @@ RESETS = {"runtime": 0.002}
 SYNCS = {"runtime": 0.05, "limits": 0.0005}
 
 OUTPUTS = {"ref__ready": "ref_ready", "start": "start", "h": "h", "update": "update",
-           "sample": "sample", "saturated": "saturated", "period_clamped": "period_clamped"}
+           "sample": "sample", "saturated": "saturated", "period_clamped": "period_clamped",
+           "elapsed": "elapsed"}
 
 
 def sine_codes(contract, amplitude, angle, offset=0):
