@@ -1,8 +1,9 @@
 # amaranth: UnusedElaboratable=no
 """The update sequencer against the clock-level models' own sequencer (mdfqm_model.clock:
 CoreModel for the core's variant, GeneratorModel for the generator's), every output on every
-clock: update starts, sampling ticks, the latched period / OSR / policy / mode / b, the clamps,
-sync_in at every phase, long and short updates, resets mid-run."""
+clock: update starts, sampling ticks, the clocks elapsed since the start, the latched
+period / OSR / policy / mode / b, the clamps, sync_in at every phase, long and short updates,
+resets mid-run."""
 
 # (line 1: components built only to be refused are never elaborated, on purpose)
 
@@ -28,7 +29,7 @@ async def sequencer_against_the_clock_model(dut):
     rng = seeded_rng(dut, "sequencer_against_the_clock_model")
     names = ["rst", "period", "osr", "zero_policy", "sync_in", *(["mode", "bits"] * generator)]
     inputs = {name: [] for name in names}
-    outs = ["start", "tick", "policy", "period_clamped"]
+    outs = ["start", "tick", "policy", "period_clamped", "elapsed"]
     if generator:
         outs += ["mode_lat", "bits_lat", "long", "p_lat", "mode_clamped"]
     want = {name: [] for name in outs}
@@ -53,7 +54,7 @@ async def sequencer_against_the_clock_model(dut):
         out = model.step(**{k: v for k, v in stim.items() if k not in ("mode", "bits")},
                          **({"mode": stim["mode"], "bits": stim["bits"]} if generator else {}))
         visible.update(start=out["start"], tick=out["sample"],
-                       period_clamped=out["period_clamped"])
+                       period_clamped=out["period_clamped"], elapsed=out["elapsed"])
         if generator:
             visible["mode_clamped"] = out["mode_clamped"]
         for name in outs:

@@ -50,6 +50,7 @@ from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_model.bbit import modulate_bbit
 from mdfqm_model.clock import GeneratorModel
 from mdfqm_spec.contract import MODES, Contract
+from mdfqm_testkit.bbit_stimulus import OUTPUTS as GENERATOR_OUTPUTS
 from mdfqm_testkit.harness import ROOT, pack
 from mdfqm_testkit.vectors import VectorBench, pack_words, port_connections
 from tools.analysis.metrics import PWave, distortion
@@ -196,10 +197,7 @@ def stimulus(method: Method, beats: np.ndarray, contract: Contract):
     stim["mode"][:] = mode
     stim["bits"][:] = method.bits
     stim["rst"][0] = 1
-    outputs = {port: np.zeros(cycles, dtype=np.int64) for port in
-               ("ref__ready", "start", "h", "update", "sample", "saturated", "period_clamped",
-                "mode_clamped", "mode_in_force", "bits_in_force")}
-    keys = {"ref__ready": "ref_ready"}
+    outputs = {port: np.zeros(cycles, dtype=np.int64) for port in GENERATOR_OUTPUTS}
     q, first_start = 0, None
     for cycle in range(cycles):
         valid = int(q < len(beats) and cycle > 0)
@@ -215,7 +213,7 @@ def stimulus(method: Method, beats: np.ndarray, contract: Contract):
         stim["ref__valid"][cycle] = valid
         stim["ref__payload"][cycle] = pack(payload, WIDTH)
         for port in outputs:
-            outputs[port][cycle] = out[keys.get(port, port)]
+            outputs[port][cycle] = out[GENERATOR_OUTPUTS[port]]
     return stim, outputs, first_start
 
 
