@@ -7,8 +7,6 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period, signed_bits
 from mdfqm_spec.validate import validate_positive
 
-from .arith import at_least
-
 __all__ = ["UpdateSequencer"]
 
 
@@ -180,8 +178,8 @@ class UpdateSequencer(wiring.Component):
         # minimum period of a long update for each code of b_now (padded: a complete case)
         table = [min_period(True, min(b, self.max_bits), short, long_lat)
                  for b in range(1 << BITS_WIDTH)]
-        below = Array(~at_least(self.period, v) for v in table)[b_now]
-        clamped = Mux(long_now, below, ~at_least(self.period, short))
+        below = Array(self.period < v for v in table)[b_now]
+        clamped = Mux(long_now, below, self.period < short)
         minimum = Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)
         # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0.
         # count is negative for at most the minimum's clocks before the next start reloads it
