@@ -344,6 +344,9 @@ class Row:
     #: the seeds after the first whose route failed: nextpnr's first words, by seed
     failed: dict = field(default_factory=dict)
     no_fit: str | None = None
+    #: the synthesis or the first seed's route failed (the tool's words): the row says so and
+    #: the others are still measured
+    broken: str | None = None
     seconds: float = 0.0
 
     @property
@@ -399,7 +402,8 @@ def route(row: Row, seed: int) -> dict:
 def synthesise(config: Config, device: Device) -> Row:
     """Synthesise ``config`` on ``device`` and route it with the first seed; the fallback
     synthesis when the plain one or its route fails (then both logs stay). A design that does
-    not fit the device comes back with ``no_fit`` set to nextpnr's words."""
+    not fit the device comes back with ``no_fit`` set to nextpnr's words, one whose synthesis
+    or first route fails otherwise with ``broken`` set to the error (the run goes on)."""
     started = time.monotonic()
     work = BUILD / f"{config.key}_{device.key}"
     if work.exists():
@@ -414,7 +418,20 @@ def synthesise(config: Config, device: Device) -> Row:
         yosys(il, synth, work / log)
         row.synth = synth
 
-    first = row.seeds[0]
+    try:
+        _synthesise_and_route_first(row, device, synthesise_with)
+    except RuntimeError as error:
+        row.broken = " ".join(str(error).split())[:160]
+        row.counts = {"luts": "-", "ffs": "-", "carry": "-", "dsp": "-"}
+        row.seconds = time.monotonic() - started
+        return row
+    row.counts = cell_counts(json.loads(stat_file.read_text()), device.family)
+    row.seconds = time.monotonic() - started
+    return row
+
+
+def _synthesise_and_route_first(row: Row, device: Device, synthesise_with) -> None:
+    work, first = row.work, row.seeds[0]
     try:
         # plain synth_ecp5 either stops inside ABC9 on some of these designs or writes a
         # netlist nextpnr rejects (a net driven twice): then the fallback, for both
@@ -437,9 +454,6 @@ def synthesise(config: Config, device: Device) -> Row:
                 row.no_fit = _no_fit(work / f"seed{first}" / "nextpnr.log")
                 if not row.no_fit:
                     raise
-    row.counts = cell_counts(json.loads(stat_file.read_text()), device.family)
-    row.seconds = time.monotonic() - started
-    return row
 
 
 def _no_fit(log: Path) -> str | None:
@@ -463,7 +477,8 @@ def summary(row: Row, core3: dict[str, float] | None = None) -> dict:
             "phases": design.phases, "width": design.width, "device": row.device.name,
             "device_key": row.device.key, "target": target,
             "relative": config.relative, "synth": row.synth,
-            "fallback": row.synth != row.device.synth, "no_fit": row.no_fit,
+            "fallback": bool(row.synth) and row.synth != row.device.synth,
+            "no_fit": row.no_fit, "broken": row.broken,
             "seeds": sorted(row.routes), "fmaxes": fmaxes, "failed": dict(row.failed),
             "fmax": statistics.median(fmaxes) if fmaxes else None,
             "fmax_min": min(fmaxes) if fmaxes else None,
@@ -491,6 +506,9 @@ def measure_all(pairs: list[tuple[Config, Device]], jobs: int, progress=print) -
                 index, seed = pending.pop(future)
                 if seed is None:
                     row = rows[index] = future.result()
+                    if row.broken:
+                        progress(f"{row.config.key} {row.device.key}: failed: {row.broken}")
+                        continue
                     progress(f"{row.config.key} {row.device.key}: synthesised, "
                              f"{row.counts['luts']} LUT4, {row.counts['ffs']} FF"
                              + (f"; does not fit: {row.no_fit}" if row.no_fit else
@@ -553,7 +571,9 @@ def table(rows: list[dict], versions: str, date: str) -> str:
         if r.get("fallback"):
             fallback[r["synth"]] = fallback.get(r["synth"], 0) + 1
             device += "\u00b2"
-        if r.get("fmax") is None:
+        if r.get("broken"):
+            fmax, fmax_min, rate = f"failed: {r['broken']}", "-", "-"
+        elif r.get("fmax") is None:
             fmax, fmax_min = f"does not fit: {r.get('no_fit') or '?'}", "-"
             rate = "-"
         else:
@@ -740,6 +760,9 @@ def status(rows: list[dict], date: str) -> str:
         if r.get("target") is None:
             continue
         name = f"{r['design']}, N = {r['phases']}, {r['device'].split(' (')[0]}"
+        if r.get("broken"):
+            lines.append(f"  - {name}: not measured ({r['broken']})")
+            continue
         if r.get("fmax") is None:
             lines.append(f"  - {name}: does not fit the device ({r.get('no_fit')})")
             continue

