@@ -136,7 +136,8 @@ class GatingSignalGenerator(wiring.Component):
         assert 2 + sort1.latency + candidates.latency + sort2.latency + decoder.latency \
             == self.latency
 
-        # a slot mode has b >= 1: a slot is at most half the longest period (an MDFQM update
+        # P, then P >> b once shifted: a slot mode has b >= 1, so a slot is at most half the
+        # longest period and its count slot_m2 fits period_width signed bits (an MDFQM update
         # loads the layout's count too, unused: no slot follows its state)
         slot_len = Signal(len(self.period))
         slot_m2 = Signal(signed(len(self.period)))

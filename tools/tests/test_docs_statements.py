@@ -188,17 +188,25 @@ def test_named_modules_and_files_exist(path):
 
 
 # ---------------------------------------------------------------------------- measured figures
-def perf_rows() -> list[list[str]]:
+def perf_rows() -> list[dict[str, str]]:
+    """The README's perf table, a dict per row keyed by its header's cells."""
     block = text("README.md").split("<!-- perf:begin -->", 1)[1].split("<!-- perf:end -->")[0]
-    return [[c.strip() for c in line.strip().strip("|").split("|")]
-            for line in block.splitlines() if line.startswith("| ") and "---" not in line][1:]
+    lines = [[c.strip() for c in line.strip().strip("|").split("|")]
+             for line in block.splitlines() if line.startswith("| ") and "---" not in line]
+    header = lines[0]
+    return [dict(zip(header, cells, strict=True)) for cells in lines[1:]]
+
+
+def perf_row(design: str, device: str, phases: int = 3) -> dict[str, str]:
+    rows = [r for r in perf_rows()
+            if r["design"] == design and r["N / width"] == f"{phases} / 16"
+            and r["device"].startswith(device)]
+    assert len(rows) == 1, (design, device)
+    return rows[0]
 
 
 def perf_lut4(design: str, device: str) -> int:
-    rows = [r for r in perf_rows()
-            if r[0] == design and r[1] == "3 / 16" and r[2].startswith(device)]
-    assert len(rows) == 1, (design, device)
-    return int(rows[0][7])
+    return int(perf_row(design, device)["LUT4"])
 
 
 def board_rows() -> list[list[str]]:
@@ -209,7 +217,7 @@ def board_rows() -> list[list[str]]:
 
 
 def test_lut_figures_quoted_from_make_perf():
-    """docs/top.md's "about 1,000 LUT4" fewer for the MDFQM-only top is the difference of
+    """docs/top.md's "about 850 LUT4" fewer for the MDFQM-only top is the difference of
     `make perf`'s LUT4 of the whole top and of the MDFQM-only top on the UP5K (the README's
     table, which `make perf` writes) within 15 %; docs/boards.md states no LUT4 figure of its own
     outside the board table (it points to the tables instead)."""
@@ -236,38 +244,27 @@ def test_board_figures_quoted_from_make_report():
                                                                          max(margins))
 
 
-def perf_fmax(design: str, device: str) -> tuple[float, str]:
-    """(Fmax, target cell) of a row of the README's perf table."""
-    rows = [r for r in perf_rows()
-            if r[0] == design and r[1] == "3 / 16" and r[2].startswith(device)]
-    assert len(rows) == 1, (design, device)
-    return float(rows[0][4]), rows[0][5]
+#: a status line of `make perf` on a row with a target
+STATUS_LINE = re.compile(r"^  - (.+?), N = (\d+), (.+?): ([\d.]+) MHz \(min ([\d.]+)\) against "
+                         r"([\d.]+): (met|MISSED)", re.M)
 
 
 def test_fmax_figures_quoted_from_make_perf():
-    """The README's "Status and known limits" quotes make perf's Fmax of the core and of the
-    whole top on both fronts, and whether each met its target: the table's figures."""
-    body = flat("README.md").split("## Status and known limits", 1)[1]
-    core = re.search(r"the core meets HX8K \(([\d.]+) MHz\) and misses UP5K \(([\d.]+) against "
-                     r"(\d+)\) and ECP5-25F \(([\d.]+) against (\d+)\)", body)
-    assert core
-    for device, fmax, target, met in (("iCE40 HX8K", core.group(1), None, True),
-                                      ("iCE40 UP5K", core.group(2), core.group(3), False),
-                                      ("ECP5-25F", core.group(4), core.group(5), False)):
-        table, cell = perf_fmax("core", device)
-        assert float(fmax) == table and cell.endswith("(met)" if met else "(MISSED)"), device
-        assert target is None or cell.startswith(f"{target} "), (device, cell)
-    top = re.search(r"meets issue 14's HX8K target on both fronts \(Wishbone ([\d.]+), "
-                    r"AXI4-Lite ([\d.]+) MHz, against (\d+)\) and misses the ECP5-25F's "
-                    r"\(Wishbone ([\d.]+), AXI4-Lite ([\d.]+) MHz, against (\d+)\) and the "
-                    r"UP5K's \(Wishbone ([\d.]+), AXI4-Lite ([\d.]+) MHz, against (\d+)\)", body)
-    assert top
-    figures = iter(top.groups())
-    for device, met in (("iCE40 HX8K", True), ("ECP5-25F", False), ("iCE40 UP5K", False)):
-        wishbone, axi, target = next(figures), next(figures), next(figures)
-        for design, fmax in (("top, Wishbone", wishbone), ("top, AXI4-Lite", axi)):
-            table, cell = perf_fmax(design, device)
-            assert float(fmax) == table, (design, device, fmax, table)
-            assert cell == f"{target} ({'met' if met else 'MISSED'})", (design, device, cell)
-    alone = re.search(r"The MDFQM-only top reaches ([\d.]+) on the UP5K", body)
-    assert alone and float(alone.group(1)) == perf_fmax("top, MDFQM only", "iCE40 UP5K")[0]
+    """The README's "Status and known limits" quotes make perf's Fmax (median and minimum over
+    the seeds) of every row with a target, against that target, met or missed as the table
+    says: the table's figures."""
+    status = text("README.md").split("<!-- perf-status:begin -->", 1)[1]
+    status = status.split("<!-- perf-status:end -->")[0]
+    quoted = STATUS_LINE.findall(status)
+    assert quoted
+    for design, phases, device, fmax, fmax_min, target, verdict in quoted:
+        row = perf_row(design, device, int(phases))
+        assert float(row["Fmax median (MHz)"]) == float(fmax), (design, device)
+        assert float(row["Fmax min (MHz)"]) == float(fmax_min), (design, device)
+        cell = row["target (MHz)"]
+        assert float(cell.split()[0]) == pytest.approx(float(target), abs=0.05), (design, cell)
+        assert cell.endswith(f"({verdict})"), cell
+    measured = {(r["design"], r["N / width"].split(" /")[0], r["device"].split(" (")[0])
+                for r in perf_rows()
+                if r["target (MHz)"] != "-" and re.fullmatch(r"[\d.]+", r["Fmax median (MHz)"])}
+    assert measured == {(design, phases, device) for design, phases, device, *_ in quoted}
