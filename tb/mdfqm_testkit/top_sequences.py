@@ -130,6 +130,12 @@ class PeriodBands(TopSequence):
         """The powers of two of an update's phase that a sync is aimed just past."""
         return [e for e in period_edges(run) if e >= 256]
 
+    @staticmethod
+    def sync_phases(run, edge: int) -> range:
+        """The phases just past ``edge`` a sync is aimed at: the update has committed there
+        (from ``edge``, at least 256, on) and they stay below the next power of two."""
+        return range(edge, edge + run.model.latency - 1)
+
     @classmethod
     def coverpoints(cls, run):
         return {cls.POINT: (*bands(period_edges(run)), "below the minimum"),
@@ -151,7 +157,7 @@ class PeriodBands(TopSequence):
         yield from run.settle(run.write(regs.PERIOD, value), run.read(regs.PERIOD))
         yield from run.updates(1, limit=3 * 65536)          # taken at that start
         edge = max((e for e in self.sync_edges(run) if e <= value), default=None)
-        phase = None if edge is None else edge + rng.randrange(run.model.latency - 1)
+        phase = None if edge is None else rng.choice(self.sync_phases(run, edge))
         if phase is not None and phase + 2 < value and (
                 str(edge) in run.coverage.open_bins(self.SYNC_POINT) or rng.random() < 0.5):
             core = run.model.core

@@ -581,7 +581,7 @@ class Monitor:
             if not start and core.phase + 1 >= threshold:
                 self.hit(seq.SyncPulses.POINT, "starts the next update")
                 for edge in seq.PeriodBands.sync_edges(run):
-                    if edge <= core.phase <= edge + m.latency - 2:
+                    if core.phase in seq.PeriodBands.sync_phases(run, edge):
                         self.hit(seq.PeriodBands.SYNC_POINT, str(edge))
                 if getattr(core, "mode_lat", 0):
                     self.hit(seq.SyncPulses.POINT, "starts the next update in a slot mode")
