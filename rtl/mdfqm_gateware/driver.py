@@ -110,10 +110,14 @@ class LegDriver(wiring.Component):
         # the decisions of a clock are flags computed in the clock before (the Fmax path)
         dead_seen = Signal(tw, reset_less=True)
         min_pulse_seen = Signal(tw, reset_less=True)
-        # what the count of clocks in the present on/off state plus one (the model's cnt + 1,
-        # saturating at 2**tw) becomes next clock if the state holds: the decisions need only
-        # this one; the count itself is the proofs' (built with formal=True only)
-        count_next = Signal(tw + 1, init=2)
+        # what the count of clocks in the present on/off state plus one (the model's cnt + 1)
+        # becomes next clock if the state holds: the decisions need only this one; the count
+        # itself is the proofs' (built with formal=True only). It saturates at 2**tw - 1, not
+        # at the model's 2**tw: every decision compares it with a tw-bit value, for which the
+        # two answer alike, and the increment's carry out is the saturation test
+        count_next = Signal(tw, init=2)
+        count_inc = Signal(tw + 1)
+        m.d.comb += count_inc.eq(count_next + 1)
         dt_run = Signal(tw, reset_less=True)
         # registered decisions: count >= max(dt_run, dead_seen, dead_min) (read while off only),
         # count < min_pulse_seen
@@ -164,8 +168,7 @@ class LegDriver(wiring.Component):
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
             self.event.eq(~on & (nxt_up | nxt_lo)),
-            # saturated at top + 1 = 2**tw, the only value with bit tw set
-            count_next.eq(Mux(restart, 2, Mux(count_next[tw], top + 1, count_next + 1))),
+            count_next.eq(Mux(restart, 2, Mux(count_inc[tw], top, count_inc[:tw]))),
             dead_elapsed.eq(Mux(restart, elapsed_restart, elapsed_hold)),
             pulse_short.eq(Mux(restart, short_restart, short_hold)),
             dead_seen.eq(self.dead),
@@ -175,8 +178,9 @@ class LegDriver(wiring.Component):
             m.d.sync += dt_run.eq(dt)
 
         if self.formal:
+            # the model's cnt + 1, saturating at 2**tw, counted apart from the design's register
             count = Signal(tw + 1, init=1)
-            m.d.sync += count.eq(Mux(restart, 1, count_next))
+            m.d.sync += count.eq(Mux(restart, 1, Mux(count == top + 1, top + 1, count + 1)))
             self._properties(m, self.upper | self.lower, dt, (count - 1)[:tw], dt_run,
                              (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
@@ -192,8 +196,8 @@ class LegDriver(wiring.Component):
         top = (1 << self.time_width) - 1
         m.d.comb += [
             Assert((count >= 1) & (count <= top + 1), "invariant: count in range"),
-            Assert(count_next == Mux(count == top + 1, top + 1, count + 1),
-                   "invariant: count_next is the next count"),
+            Assert(count_next == Mux(count >= top, top, count + 1),
+                   "invariant: count_next is the next count (saturating at 2**tw - 1)"),
             Assert(self.upper | self.lower
                    | (dead_elapsed == ((count >= dt) & (count >= dt_run))),
                    "invariant: dead_elapsed is the dead-time compare while off"),
