@@ -6,9 +6,11 @@ payload until accepted and idles at random); because every cycle's ``ready`` is 
 with the gateware's, the gateware sees exactly this stimulus.
 """
 
+import copy
 import math
 
 from mdfqm_model.clock import CoreModel
+from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_testkit.harness import pack
 
 #: every scenario generate() knows
@@ -79,6 +81,85 @@ def limit_osr(rng):
                        1 << rng.randint(0, 7)])
 
 
+#: the ``ties`` scenario's coverpoint: an update whose sort1 meets two legs with equal T (its
+#: order of equal values decides: docs/contract.md, "Sort1 (N-input sort) tie-break") or T one
+#: step apart, and one whose two largest candidates are equal (the smallest j wins: "Candidates
+#: and the two selection rules") or close. A step is N: every T_i - T_j is a multiple of N in
+#: the N-scaled domain (R_i - R_j = N (c_i - c_j), and the feedback's U_i - U_j = N FULL (h_i -
+#: h_j)); so are largest_duty's candidates, and exact_nearest's are even: "close" is at most
+#: 2 N apart
+TIE_POINT = "core ties: aimed coincidences of the two sorts"
+TIE_BINS = ("legs equal", "legs one step apart", "candidates equal", "candidates close")
+#: one beat in this many of the ``ties`` scenario is aimed (each aim simulates the model ahead)
+TIE_AIM_EVERY = 16
+
+
+def tie_bins(t, contract, rule):
+    """The :data:`TIE_BINS` an update with ``T = t`` hits."""
+    rho, _ = sort1(t)
+    n = contract.phases
+    legs = min(rho[p] - rho[p + 1] for p in range(n - 1))
+    ranked = sorted(candidates(rho, contract, rule), reverse=True)
+    top = ranked[0] - ranked[1]
+    return ([TIE_BINS[legs // n]] if legs in (0, n) else []) + \
+        ([TIE_BINS[2 + (top > 0)]] if top <= 2 * n else [])
+
+
+def _x_at_use(model, codes, settings, limit=4096):
+    """The integrators ``X`` of the update that takes a beat of ``codes`` offered now (the model
+    ready): a copy of the model run ahead with ``settings`` (``period``, ``osr``,
+    ``zero_policy``) held; None if that update does not start within ``limit`` clocks."""
+    probe = copy.deepcopy(model)
+    probe.step(ref_valid=1, ref=codes, **settings)
+    for _ in range(limit):
+        if probe.phase == 0 and probe.sub == 0 and probe.full:     # the tick that takes it
+            return probe.x
+        probe.step(**settings)
+    return None
+
+
+def aimed_tie(rng, model, contract, rule, settings, codes):
+    """A beat (offered now, the model ready) whose update meets a tie of sort1 (two legs' T
+    equal or one step, N, apart) or of sort2 (the two largest candidates equal or close), each
+    half the time; ``codes`` where the update cannot be foreseen. sort1's: ``T_a - T_b = X_a -
+    X_b + N (c_a - c_b)``, so ``c_a`` is set from ``c_b``; sort2's: a pattern search over the
+    codes for the distance aimed at between the two largest candidates (0, or the smallest
+    above 0 it finds)."""
+    x = _x_at_use(model, codes, settings)
+    if x is None:
+        return codes
+    n, lo, hi = contract.phases, contract.code_min, contract.code_max
+
+    def t_of(c):
+        return [xi + ri for xi, ri in zip(x, remove_common_mode(c, n), strict=True)]
+
+    codes = list(codes)
+    apart = rng.choice((0, n))
+    if rng.random() < 0.5:
+        a, b = rng.sample(range(n), 2)
+        codes[a] = max(lo, min(hi, codes[b] + (apart - (x[a] - x[b])) // n))
+        return codes
+
+    def distance(c):
+        ranked = sorted(candidates(sort1(t_of(c))[0], contract, rule), reverse=True)
+        gap = ranked[0] - ranked[1]
+        return gap if apart == 0 else abs(gap - 1) if gap else 2 * contract.full
+
+    best, step = distance(codes), contract.full // 2
+    while step >= 1 and best > 0:
+        moved = False
+        for i in range(n):
+            for delta in (step, -step):
+                trial = list(codes)
+                trial[i] = max(lo, min(hi, trial[i] + delta))
+                d = distance(trial)
+                if d < best:
+                    codes, best, moved = trial, d, True
+        if not moved:
+            step //= 2
+    return codes
+
+
 def linear_amplitude(phases):
     """Largest sine amplitude (Vdc) inside the linear range max(v) - min(v) <= 1."""
     spread = max(math.cos(2 * math.pi * i / phases) for i in range(phases)) - min(
@@ -86,11 +167,16 @@ def linear_amplitude(phases):
     return 1 / spread
 
 
-def generate(rng, scenario, contract, rule, cycles):
+def generate(rng, scenario, contract, rule, cycles, coverage=None):
     """Closed-loop stimulus: a stream source that reacts to the model's ``ready`` like a real
     producer (holds valid and payload until accepted, idles at random) and the runtime settings
-    of ``scenario``. Returns (inputs per cycle, expected outputs per cycle)."""
+    of ``scenario``. Returns (inputs per cycle, expected outputs per cycle). With a
+    :class:`~mdfqm_testkit.coverage.Coverage`, the ``ties`` scenario declares :data:`TIE_BINS`
+    and counts the updates that hit them (from the model's ``T``)."""
     model = CoreModel(contract.phases, contract.width, rule)
+    if coverage is not None and scenario == "ties":
+        coverage.want(TIE_POINT, TIE_BINS, "core ties")
+    beats = 0
     latency = model.latency
     n = contract.phases
     lin = linear_amplitude(n)
@@ -124,7 +210,10 @@ def generate(rng, scenario, contract, rule, cycles):
                 amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
         if scenario in RESETS and rng.random() < RESETS[scenario]:
             rst = 1                                       # reset mid-run
-        if offered is None and rng.random() < 0.7:       # idle gaps between beats
+        # an aimed beat of the ``ties`` scenario waits until the model is ready, so that the
+        # update which takes it is foreseen from the clock it is offered in
+        aiming = scenario == "ties" and beats % TIE_AIM_EVERY == TIE_AIM_EVERY - 1
+        if offered is None and (model.ref_ready or not aiming) and rng.random() < 0.7:
             angle += step
             if scenario == "extremes" or (scenario == "limits" and rng.random() < 0.5):
                 offered = extreme_codes(rng, contract, n)
@@ -135,6 +224,11 @@ def generate(rng, scenario, contract, rule, cycles):
                 offered = sine_codes(contract, amplitude, angle, offset)
             if scenario in ("ties", "extremes"):
                 policy = rng.randint(0, 1)
+            if aiming:
+                offered = aimed_tie(rng, model, contract, rule,
+                                    {"period": period, "osr": osr, "zero_policy": policy},
+                                    offered)
+            beats += 1
         sync_in = int((scenario in SYNCS and (scenario != "limits" or cycle > cycles // 2)
                       and rng.random() < SYNCS[scenario]) or cycle == sync_at)
         valid = int(offered is not None)
@@ -143,6 +237,10 @@ def generate(rng, scenario, contract, rule, cycles):
                          zero_policy=policy, sync_in=sync_in)
         if valid and out["ref_ready"] and not rst:
             offered = None
+        if coverage is not None and scenario == "ties" and out["start"] and not rst:
+            _, x, r = model.inflight[:3]
+            for bin_ in tie_bins([xi + ri for xi, ri in zip(x, r, strict=True)], contract, rule):
+                coverage.hit(TIE_POINT, bin_)
         holding = holding and not out["start"]
         if scenario == "limits" and out["start"] and cycle > cycles // 2:
             sync_at = sync_delay(rng, cycle)
