@@ -296,4 +296,51 @@ READINGS: tuple[Reading, ...] = (
         _HI_PAST_LAST.format(what="bit 6 of what the quantiser's `hi` of leg 1 is loaded with "
                                   "is inverted while its bit 8 is set",
                              when="its bit 8 is set", value=320)),
+    Reading(
+        "rtl/mdfqm_gateware/integrator.py@19408d28 integrator $logic_not#1 A[1] const0",
+        "the integrator's fit test `top == 0` ignores bit 1 of `top`, the bits of `X' = T - U` "
+        "from the word's sign bit up: it would take as fitting a positive overflow of at least "
+        "twice the bound (`X'_i >= 2**18` at width 16). `T_i <= x_max + r_bound < 2**18`, so "
+        "that needs `U_i < 0`, leg i off while another is on; but a `T_i` that large is the "
+        "largest `T`, and every non-zero state the largest-duty rule can choose turns the leg "
+        "of the largest `T` on."),
+    Reading(
+        "rtl/mdfqm_gateware/sort.py@d1779d07 sort1 $not#0 Y[1] cnot0/0",
+        "sort1's tie-break key of leg 1 (`~index`) drops below leg 2's, so equal values of legs "
+        "1 and 2 come out in the other order: the same values `rho`, so the same candidates "
+        "and the same `j*`, and the state differs only if `j*` splits the two equal legs. "
+        "Under the largest-duty rule that split is a duty `rho_j - rho_(j+1) = 0`, never the "
+        "largest (the duties sum to `N FULL > 0`); the ties scenario's aimed equal legs show "
+        "no difference."),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#1 A[0] inv",
+        "the latched zero policy is loaded inverted at each update start and then toggles every "
+        "clock (the inversion sits on the hold path too); the decoder reads it only in the "
+        "clock its valid is high, a fixed number of clocks after the start, where the toggles "
+        "have given the loaded value back (as the vector runs show)."),
+    Reading(
+        "rtl/mdfqm_gateware/selector.py@901d568a sort2 $mux#3 B[0] const1",
+        "sort2's index after a reset is 1 instead of 0; it is read only with sort2's valid, "
+        "which is low until the first update's result, and that result overwrites it."),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $add#0 B[16] const1",
+        "bit 16 of the quantiser's offset constant `2 NF + NF / 2**b` (g2 = 2) is forced to 1. "
+        "At width 16 (`NF = 3 * 2**14`) that bit is set for every b >= 1 and clear only for "
+        "b = 0, and the quantiser's results are used only for a slot-mode update, whose b is "
+        "at least 1."),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@a1acd3f0 layout $sub#0 A[3] cnot1/2",
+        "the slot layout's count of slots still to begin is decremented from a value with bit 3 "
+        "inverted while bit 2 is set: the count visits other values, but from every load it "
+        "can have (`S - 1 = 2**b - 1`, b = 1..8) it reaches 1, where the last slot begins, "
+        "after the same number of slots (the +8 and -8 alternate; checked for the eight loads "
+        "by a simulation of the count-down alone, not a proof; from an even load it would "
+        "differ)."),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@792ca3ac sequencer $dff#0 Q[6] inv",
+        "bit 6 of the minimum-period count-down `floor` is inverted as read (by its decrement "
+        "and its sign test alike): the count runs `r -> (r - 1) xor 64`, whose sign bit turns "
+        "on after as many clocks as the plain count's from every load of the table "
+        "(`minimum - 3` <= 253; checked for each by a simulation of the count-down alone, "
+        "not a proof), and only the sign is read."),
 )
