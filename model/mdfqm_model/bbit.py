@@ -74,6 +74,7 @@ __all__ = [
     "ideal_svpwm_edges",
     "modulate_bbit",
     "quantised_instants",
+    "rounding_numerators",
     "validate_mode",
 ]
 
@@ -108,20 +109,26 @@ def gamma2_for(mode: str, rho: Sequence[int]) -> int:
     raise ValueError(f"gamma is defined for {MODES[1:]}, not {mode!r}")
 
 
-def quantised_instants(rho: Sequence[int], gamma2: int, slots: int, contract: Contract) -> list:
-    """``[q_0, .., q_{N+1}]``: the switching instants rounded to whole slots (see module doc)."""
+def rounding_numerators(rho: Sequence[int], gamma2: int, slots: int,
+                        contract: Contract) -> list[int]:
+    """``[2 C_j S + NF for j = 1..N]``: the instant ``C_j`` rounds to the slot
+    ``floor(numerator / (2 NF))`` (half up: a numerator that is a multiple of ``2 NF`` is
+    exactly half-way between two slot boundaries)."""
     n = contract.phases
     nf = contract.unit
-    two_c = [0] * (n + 1)  # 2 C_j for j = 0..N
-    two_c[1] = gamma2 * (nf - rho[0] + rho[-1])
+    two_c = gamma2 * (nf - rho[0] + rho[-1])       # 2 C_1
+    out = [two_c * slots + nf]
     for j in range(1, n):
-        two_c[j + 1] = two_c[j] + 2 * (rho[j - 1] - rho[j])
-    q = [0]
-    for j in range(1, n + 1):
-        v = (two_c[j] * slots + nf) // (2 * nf)
-        q.append(min(max(v, 0), slots))
-    q.append(slots)
-    return q
+        two_c += 2 * (rho[j - 1] - rho[j])
+        out.append(two_c * slots + nf)
+    return out
+
+
+def quantised_instants(rho: Sequence[int], gamma2: int, slots: int, contract: Contract) -> list:
+    """``[q_0, .., q_{N+1}]``: the switching instants rounded to whole slots (see module doc)."""
+    two_nf = 2 * contract.unit
+    return [0, *(min(max(v // two_nf, 0), slots)
+                 for v in rounding_numerators(rho, gamma2, slots, contract)), slots]
 
 
 def centred_slots(on_slots: Sequence[int], slots: int) -> list[int]:

@@ -36,7 +36,9 @@ hits their coverpoints from what the model shows in each clock:
 
 import math
 
+from mdfqm_model.bbit import gamma2_for, rounding_numerators
 from mdfqm_model.clock import GeneratorModel
+from mdfqm_model.update import sort1
 from mdfqm_spec.contract import MODES, latch_mode, min_period
 from mdfqm_testkit import core_stimulus
 from mdfqm_testkit.core_stimulus import (
@@ -81,6 +83,27 @@ def grid_codes(rng, contract, phases, bits):
     codes = [base + rng.randint(-(1 << bits), 1 << bits) * step + rng.choice([0, 0, 0, -1, 1])
              for _ in range(phases)]
     return [max(contract.code_min, min(contract.code_max, c)) for c in codes]
+
+
+#: where an instant can sit against its rounding point (docs/contract.md, "b-bit pulse-width
+#: resolution": an instant rounds half up to whole slots): a numerator ``2 C_j S + NF`` that
+#: is a multiple of ``2 NF`` (exactly half-way, rounded up), or one at most ``2 N S`` below one
+#: (a few of its smallest steps: rounded down); either inside the update (not clamped)
+ROUNDING_PLACES = ("on it", "just below it")
+
+
+def rounding_places(t, mode: int, bits: int, contract) -> set[str]:
+    """The :data:`ROUNDING_PLACES` the instants of a slot-mode update with ``T = t`` take."""
+    rho, _ = sort1(t)
+    slots, two_nf = 1 << bits, 2 * contract.unit
+    places = set()
+    for numerator in rounding_numerators(rho, gamma2_for(MODES[mode], rho), slots, contract):
+        slot, rest = divmod(numerator, two_nf)
+        if rest == 0 and 1 <= slot <= slots:
+            places.add(ROUNDING_PLACES[0])
+        elif rest and 0 <= slot < slots and two_nf - rest <= 2 * contract.phases * slots:
+            places.add(ROUNDING_PLACES[1])
+    return places
 
 
 def boundary_codes(rng, contract, phases, bits):

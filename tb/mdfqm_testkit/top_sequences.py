@@ -12,6 +12,7 @@ from typing import ClassVar
 
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES, min_period
+from mdfqm_testkit.bbit_stimulus import ROUNDING_PLACES
 from mdfqm_testkit.coverage import band, band_low, bands
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Sequence, doc, rdl, robustness
@@ -815,7 +816,9 @@ class ResetMidUpdate(TopSequence):
     """A reset in an update start's clock, in the middle of an update or inside a slot layout:
     every register to its reset value, the update dropped; then the firmware's start-up again,
     and the first beat one whose largest candidates tie (MDFQM), or one on the half-slot grid
-    into a slot mode's first update (its instants on the quantiser's decision boundaries)."""
+    into a slot mode's first update (its instants on the quantiser's decision boundaries): in
+    each slot mode at the finest b, one with an instant exactly on its rounding point and one
+    with an instant just below it, chosen from the empty integrators' ``T = R``."""
 
     rules = (robustness("reset in the middle of an update"),
              doc(CONTRACT_MD, "b-bit pulse-width resolution: the gating-signal generator"))
@@ -823,6 +826,11 @@ class ResetMidUpdate(TopSequence):
     weight = 2.0
     POINT = "reset"
     FIRST = "first beat after a reset"
+    ROUNDING = "slot mode at the finest b: an instant at its rounding point"
+
+    @staticmethod
+    def rounding_bin(mode: int, place: str) -> str:
+        return f"{MODES[mode]}: {place}"
 
     @classmethod
     def coverpoints(cls, run):
@@ -835,6 +843,10 @@ class ResetMidUpdate(TopSequence):
             first.append("on the half-slot grid into a slot mode")
         if first:
             points[cls.FIRST] = tuple(first)
+        if run.model.max_bits:
+            points[cls.ROUNDING] = tuple(cls.rounding_bin(mode, place)
+                                         for mode in range(1, len(MODES))
+                                         for place in ROUNDING_PLACES)
         return points
 
     def body(self):
@@ -852,19 +864,24 @@ class ResetMidUpdate(TopSequence):
         run.rst = 1
         yield
         first = run.coverage.open_bins(self.FIRST) or ["largest candidates tie"]
-        grid = (rng.choice(first) == "on the half-slot grid into a slot mode"
-                and run.model.max_bits)
+        rounding = run.coverage.open_bins(self.ROUNDING) if run.model.max_bits else []
+        grid = bool(rounding) or (rng.choice(first) == "on the half-slot grid into a slot mode"
+                                  and run.model.max_bits)
         run.stream.stalled = True
         bits = rng.randint(1, run.model.max_bits) if grid else 0
+        mode = rng.randint(1, len(MODES) - 1)
+        places = ()
+        if rounding:        # aimed at an open bin: its mode at the finest b
+            name, place = rng.choice(rounding).split(": ")
+            mode, bits, places = MODES.index(name), run.model.max_bits, (place,)
         if grid:
-            word = run.modulation_word(legal=True, mode=rng.randint(1, len(MODES) - 1),
-                                       bits=bits)
+            word = run.modulation_word(legal=True, mode=mode, bits=bits)
             run.nominal[regs.MODULATION] = word
             yield from run.settle(run.write(regs.MODULATION, word))
         else:
             run.nominal[regs.MODULATION] = 0
         yield from Operate(run).body()
-        run.stream.first_after_reset(bits)
+        run.stream.first_after_reset(bits, mode, places)
         run.stream.stalled = False
         yield from run.updates(2)
 

@@ -28,7 +28,7 @@ from mdfqm_spec import regmap as regs
 from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import FEWEST_TRANSITIONS, MODES, latch_mode, min_period
 from mdfqm_testkit import top_sequences as seq
-from mdfqm_testkit.bbit_stimulus import boundary_codes, tie_codes
+from mdfqm_testkit.bbit_stimulus import boundary_codes, rounding_places, tie_codes
 from mdfqm_testkit.bus_masters import MASTERS, Access
 from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes
 from mdfqm_testkit.coverage import Coverage, band
@@ -72,6 +72,10 @@ class Aim:
         return self._given_up() or self.moment(self.lead + 1)
 
 
+#: beats on the half-slot grid tried for one whose instant sits at a rounding place
+ROUNDING_TRIES = 64
+
+
 class StreamSource:
     """The FOC loop's reference stream: a beat held with its payload until accepted, idle clocks
     between; balanced sines whose amplitude drifts from near zero into overmodulation, with
@@ -95,14 +99,21 @@ class StreamSource:
         return sine_codes(self.contract, self.amplitude if amplitude is None else amplitude,
                           self.angle, offset)
 
-    def first_after_reset(self, bits: int) -> None:
+    def first_after_reset(self, bits: int, mode: int = 0, places=()) -> None:
         """The first beat after a reset, into empty integrators: on the half-slot grid of b
-        (a slot mode), or one whose largest candidates tie (MDFQM, largest_duty)."""
+        (a slot mode), or one whose largest candidates tie (MDFQM, largest_duty). With
+        ``places`` (of ``ROUNDING_PLACES``): the first of up to :data:`ROUNDING_TRIES` such
+        beats that puts an instant of ``mode``'s update at one of them (``T = R`` from empty
+        integrators)."""
         c, n = self.contract, self.phases
-        if bits or self.run.model.rule != "largest_duty":
-            self.offered, self.label = boundary_codes(self.rng, c, n, max(bits, 1)), "grid"
-        else:
+        if not (bits or self.run.model.rule != "largest_duty"):
             self.offered, self.label = tie_codes(self.rng, c, n), "tie"
+            return
+        for _ in range(ROUNDING_TRIES if places else 1):
+            codes = boundary_codes(self.rng, c, n, max(bits, 1))
+            if rounding_places(remove_common_mode(codes, n), mode, bits, c) & set(places):
+                break
+        self.offered, self.label = codes, "grid"
 
     def _beat(self):
         rng, c, n = self.rng, self.contract, self.phases
@@ -818,6 +829,12 @@ class Monitor:
             if mode:
                 self.hit(seq.ModulationModes.BITS_POINT,
                          seq.ModulationModes.slot_bin(mode, core.bits_lat))
+            if mode and core.bits_lat == m.max_bits:
+                _, x, r = core.inflight[:3]
+                t = [xi + ri for xi, ri in zip(x, r, strict=True)]
+                for place in rounding_places(t, mode, core.bits_lat, m.contract):
+                    self.hit(seq.ResetMidUpdate.ROUNDING,
+                             seq.ResetMidUpdate.rounding_bin(mode, place))
             request = (facts["mode_request"], facts["bits_request"])
             built = len(MODES) if m.max_bits else 1
             point = seq.ModulationClamp.POINT
