@@ -92,18 +92,25 @@ def grid_codes(rng, contract, phases, bits):
 ROUNDING_PLACES = ("on it", "just below it")
 
 
-def rounding_places(t, mode: int, bits: int, contract) -> set[str]:
-    """The :data:`ROUNDING_PLACES` the instants of a slot-mode update with ``T = t`` take."""
-    rho, _ = sort1(t)
+def rounding_legs(t, mode: int, bits: int, contract) -> set[tuple[str, int]]:
+    """``(place, leg)`` for each instant of a slot-mode update with ``T = t`` at one of the
+    :data:`ROUNDING_PLACES` (the instant of sorted position p switches leg ``perm[p]``)."""
+    rho, perm = sort1(t)
     slots, two_nf = 1 << bits, 2 * contract.unit
-    places = set()
-    for numerator in rounding_numerators(rho, gamma2_for(MODES[mode], rho), slots, contract):
+    found = set()
+    numerators = rounding_numerators(rho, gamma2_for(MODES[mode], rho), slots, contract)
+    for leg, numerator in zip(perm, numerators, strict=True):
         slot, rest = divmod(numerator, two_nf)
         if rest == 0 and 1 <= slot <= slots:
-            places.add(ROUNDING_PLACES[0])
+            found.add((ROUNDING_PLACES[0], leg))
         elif rest and 0 <= slot < slots and two_nf - rest <= 2 * contract.phases * slots:
-            places.add(ROUNDING_PLACES[1])
-    return places
+            found.add((ROUNDING_PLACES[1], leg))
+    return found
+
+
+def rounding_places(t, mode: int, bits: int, contract) -> set[str]:
+    """The :data:`ROUNDING_PLACES` the instants of a slot-mode update with ``T = t`` take."""
+    return {place for place, _ in rounding_legs(t, mode, bits, contract)}
 
 
 def boundary_codes(rng, contract, phases, bits):

@@ -105,7 +105,7 @@ def tie_bins(t, contract, rule):
         ([TIE_BINS[2 + (top > 0)]] if top <= 2 * n else [])
 
 
-def _x_at_use(model, codes, settings, limit=4096):
+def x_at_use(model, codes, settings, limit=4096):
     """The integrators ``X`` of the update that takes a beat of ``codes`` offered now (the model
     ready): a copy of the model run ahead with ``settings`` (``period``, ``osr``,
     ``zero_policy``) held; None if that update does not start within ``limit`` clocks."""
@@ -125,7 +125,7 @@ def aimed_tie(rng, model, contract, rule, settings, codes):
     X_b + N (c_a - c_b)``, so ``c_a`` is set from ``c_b``; sort2's: a pattern search over the
     codes for the distance aimed at between the two largest candidates (0, or the smallest
     above 0 it finds)."""
-    x = _x_at_use(model, codes, settings)
+    x = x_at_use(model, codes, settings)
     if x is None:
         return codes
     n, lo, hi = contract.phases, contract.code_min, contract.code_max

@@ -719,6 +719,52 @@ class Overmodulation(ReferenceBeats):
     BINS = ("an update saturated", "STATUS.SATURATED read 1")
 
 
+class HeldIntegrators(TopSequence):
+    """Once an update has saturated, the integrators held (conditional integration) and ran on
+    from the held values: with the references back inside the linear range, a beat aimed so
+    that leg i's instant sits exactly on its rounding point in a slot mode at the finest b, for
+    each leg. The integrators at the update that takes the beat come from the model run ahead,
+    and the codes cancel them (``R(c* + D) = R(c*) - X`` for ``D_i = (X_0 - X_i) / N``), so the
+    update's ``T`` is that of a beat on the half-slot grid into empty integrators."""
+
+    rules = (doc(CONTRACT_MD, "Integrator bound (anti-windup)"),)
+    claims = frozenset({STREAM, MODULATION})
+    POINT = "after a saturated update: a leg's instant on its rounding point"
+
+    @classmethod
+    def applies(cls, run) -> bool:
+        """Slot modes built in, and a long run (the overmodulation, the return into the linear
+        range and three aims take room the short runs leave to the other rules)."""
+        return bool(run.model.max_bits) and run.cycles >= LONG_TIMES_RUN
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: tuple(f"leg {i}" for i in range(run.model.phases))}
+
+    def body(self):
+        run, rng, m = self.run, self.rng, self.run.model
+        mode = rng.randint(1, len(MODES) - 1)
+        word = run.modulation_word(legal=True, mode=mode, bits=m.max_bits)
+        run.nominal[regs.MODULATION] = word
+        yield from run.settle(run.write(regs.MODULATION, word))
+        if not m.core.saturated:
+            run.stream.kind = "overmodulation"
+            yield from run.until(lambda: m.core.saturated, limit=20_000)
+        run.stream.kind = "linear"
+        yield from run.updates(4)
+        run.stream.stalled = True
+        ready = yield from run.until(lambda: m.ref_ready and run.stream.offered is None,
+                                     limit=20_000)
+        legs = [int(b.split()[1]) for b in run.coverage.open_bins(self.POINT)]
+        codes = run.stream.held_integrators_codes(rng.choice(legs or range(m.phases)), mode)
+        if ready and codes is not None:
+            run.stream.offered, run.stream.label = codes, "held"
+            yield
+        run.stream.stalled = False
+        yield from run.updates(2)
+        run.stream.kind = "sine"
+
+
 class CommonMode(ReferenceBeats):
     """References with a common-mode offset of up to half the DC bus: removed exactly."""
 

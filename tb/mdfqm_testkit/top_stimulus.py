@@ -28,9 +28,14 @@ from mdfqm_spec import regmap as regs
 from mdfqm_spec.bus import mapped_words
 from mdfqm_spec.contract import FEWEST_TRANSITIONS, MODES, latch_mode, min_period
 from mdfqm_testkit import top_sequences as seq
-from mdfqm_testkit.bbit_stimulus import boundary_codes, rounding_places, tie_codes
+from mdfqm_testkit.bbit_stimulus import (
+    boundary_codes,
+    rounding_legs,
+    rounding_places,
+    tie_codes,
+)
 from mdfqm_testkit.bus_masters import MASTERS, Access
-from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes
+from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes, x_at_use
 from mdfqm_testkit.coverage import Coverage, band
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Waits
@@ -114,6 +119,29 @@ class StreamSource:
             if rounding_places(remove_common_mode(codes, n), mode, bits, c) & set(places):
                 break
         self.offered, self.label = codes, "grid"
+
+    def held_integrators_codes(self, leg: int, mode: int) -> list | None:
+        """A beat, offered now (the model ready), whose update (``mode`` at the finest b) puts
+        ``leg``'s instant exactly on its rounding point from the integrators the model holds
+        then: a beat on the half-slot grid for empty integrators, each code moved by
+        ``(X_0 - X_i) / N`` to cancel them; None if none of :data:`ROUNDING_TRIES` fits the
+        code range or the update is not foreseen."""
+        m, c, n = self.run.model, self.contract, self.phases
+        bits = m.max_bits
+        settings = {"period": m.period, "osr": m.osr, "mode": m.mode_request,
+                    "bits": m.bits_request,
+                    "zero_policy": int(bool(m.ctrl & regs.CTRL_ZERO_POLICY))}
+        x = x_at_use(m.core, [0] * n, settings)
+        if x is None:
+            return None
+        for _ in range(ROUNDING_TRIES):
+            grid = boundary_codes(self.rng, c, n, bits)
+            if ("on it", leg) not in rounding_legs(remove_common_mode(grid, n), mode, bits, c):
+                continue
+            codes = [g + (x[0] - xi) // n for g, xi in zip(grid, x, strict=True)]
+            if all(c.code_min <= code <= c.code_max for code in codes):
+                return codes
+        return None
 
     def _beat(self):
         rng, c, n = self.rng, self.contract, self.phases
@@ -533,6 +561,8 @@ class Monitor:
         self.pins_point = seq.PinPolarity.point(run)
         self.setting_written = None
         self.dead_written = False
+        #: an update has saturated since the last reset (the integrators held once)
+        self.saturated_since_reset = False
 
     def hit(self, point, bin_):
         self.run.coverage.hit(point, bin_)
@@ -638,6 +668,7 @@ class Monitor:
             where = "in the middle of an update"
         self.hit(seq.ResetMidUpdate.POINT, where)
         self.after_reset = True
+        self.saturated_since_reset = False
 
     def _bus(self, bus) -> None:
         run, front = self.run, self.run.model.front
@@ -808,6 +839,8 @@ class Monitor:
         core, driver = m.core, m.driver
         if facts["rst"]:
             return
+        if core.update and core.saturated:
+            self.saturated_since_reset = True
         if facts["start"]:
             self.update_offset = (core.p_lat, m.adc_offset)
             if core.period_clamped:
@@ -832,9 +865,14 @@ class Monitor:
             if mode and core.bits_lat == m.max_bits:
                 _, x, r = core.inflight[:3]
                 t = [xi + ri for xi, ri in zip(x, r, strict=True)]
-                for place in rounding_places(t, mode, core.bits_lat, m.contract):
+                found = rounding_legs(t, mode, core.bits_lat, m.contract)
+                for place in {place for place, _ in found}:
                     self.hit(seq.ResetMidUpdate.ROUNDING,
                              seq.ResetMidUpdate.rounding_bin(mode, place))
+                if self.saturated_since_reset:
+                    for place, leg in found:
+                        if place == "on it":
+                            self.hit(seq.HeldIntegrators.POINT, f"leg {leg}")
             request = (facts["mode_request"], facts["bits_request"])
             built = len(MODES) if m.max_bits else 1
             point = seq.ModulationClamp.POINT
