@@ -343,4 +343,28 @@ READINGS: tuple[Reading, ...] = (
         "on after as many clocks as the plain count's from every load of the table "
         "(`minimum - 3` <= 253; checked for each by a simulation of the count-down alone, "
         "not a proof), and only the sign is read."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@73dbe7f4 top $and#0 A[0] const1",
+        "the clear of the pending register beat (`ref_pending & core.ref.ready`) no longer "
+        "tests `ref_pending`: it then clears a flag that is already 0, which changes nothing."),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@096824b8 core.quantiser $dff#1 Q[3] cnot1/4",
+        "bit 3 of leg 1's instant `V` is flipped while bit 4 is set; the divider takes `V` "
+        "from bit `low` (7 at width 16 and B = 8) up and the top quotient bit compares `V` "
+        "with `2 NF = 3 * 2**15`, whose low 15 bits are 0: no reader sees bit 3."),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@e304e1b0 core.quantiser $sub#2 Y[10] inv",
+        "bit 10 of leg 2's restoring trial `2 rem - 2 NF` is inverted; the trial is 12 bits, "
+        "its sign (bit 11) decides, and the remainder it loads is 10 bits wide: no reader sees "
+        "bit 10."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@b3f43508 top $dff#0 Q[58] cnot1/22",
+        "not equivalent, out of any simulation's reach: bit 26 of EVENTS[1] is flipped while "
+        "its bit 22 is set, after 2**22 turn-ons of leg 1 (about 4 million)."),
+    Reading(
+        "rtl/mdfqm_gateware/arith.py@7a1a5f4d core.sort1 $sub#2 B[7] const0",
+        "not equivalent, a hole of the top's stimulus: one of sort1's compares reads one leg's "
+        "T without its bit 5, which reorders two legs whose T are a few steps apart; the core's "
+        "ties scenario aims at such near ties (the core block kills its like), the top's "
+        "stimulus does not."),
 )
