@@ -367,4 +367,34 @@ READINGS: tuple[Reading, ...] = (
         "T without its bit 5, which reorders two legs whose T are a few steps apart; the core's "
         "ties scenario aims at such near ties (the core block kills its like), the top's "
         "stimulus does not."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@b3f43508 top $mux#4 A[28] const0",
+        "not equivalent, out of any simulation's reach: bit 28 of EVENTS[0] (through the "
+        "counters' clear multiplexer) stuck at 0 shows after 2**28 turn-ons of leg 0."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@05d7ccc2 top $dff#0 Q[20] const0",
+        "not equivalent, out of any simulation's reach: EVENTS_TOTAL bit 20 stuck at 0 shows "
+        "after 2**20 turn-ons without a COUNT_CLEAR."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@05d7ccc2 top $mux#0 A[1] cnot1/11",
+        "not equivalent, out of the runs' reach: EVENTS_TOTAL's next value has bit 1 flipped "
+        "while bit 11 is set, after 2,048 turn-ons without a COUNT_CLEAR; the runs clear the "
+        "counters long before (a narrower counter_width would bring it in reach)."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@4945802d top $and#0 Y[1] const0",
+        "not equivalent, out of any simulation's reach: the interrupt ignores IRQ_STATUS bit 1 "
+        "(COUNTER_WRAP), which only EVENTS_TOTAL passing 2**32 sets."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@4ded023c top $not#0 A[0] const0",
+        "not equivalent, out of any simulation's reach: the COUNTER_WRAP event ignores a "
+        "COUNT_CLEAR in its clock, which matters only when EVENTS_TOTAL passes 2**32."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@5becb77d top $dff#0 D[13] const0",
+        "not equivalent, out of the runs' reach: WATCHDOG_TRIPS bit 13 stuck at 0 shows after "
+        "8,192 watchdog trips without a COUNT_CLEAR."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@c07b0f4d top $ge#0 A[11] cnot1/14",
+        "not equivalent, out of the runs' reach: the watchdog's quiet count is compared with "
+        "TIMEOUT with its bit 11 flipped while bit 14 is set, after 16,384 update starts "
+        "without a reference (a TIMEOUT of 16,384 or more and updates to match)."),
 )
