@@ -1210,8 +1210,11 @@ class IrqService(TopSequence):
 class Counters(TopSequence):
     """The switching counters: EVENTS[i], EVENTS_TOTAL and GATES read, EVENTS_TOTAL after two
     legs turned on in one clock, CMD.COUNT_CLEAR in the very clock of a turn-on (that clock's
-    turn-ons not counted), EVENTS_TOTAL past 2**counter_width (COUNTER_WRAP) where a run can
-    reach it."""
+    turn-ons not counted), EVENTS_TOTAL past 2**counter_width where a run can reach it: while
+    that bin or COUNTER_WRAP's interrupt bins are open, a wrap is brought about (short updates
+    in a slot mode, no clear meanwhile, IRQ_ENABLE.COUNTER_WRAP alone set and IRQ_STATUS
+    cleared, so that the wrap raises irq) and served (EVENTS_TOTAL and IRQ_STATUS read, the
+    bit cleared)."""
 
     rules = (doc(TOP_MD, "Switching counters"), rdl("EVENTS_TOTAL.EVENTS_TOTAL"),
              rdl("EVENTS.EVENTS"), rdl("CMD.COUNT_CLEAR"), rdl("GATES.UPPER"),
@@ -1219,6 +1222,7 @@ class Counters(TopSequence):
              robustness("IRQ_ENABLE with undefined bits"))
     claims = frozenset({COUNTERS})
     POINT = "switching counters"
+    WRAPPED = "EVENTS_TOTAL wrapped"
 
     @classmethod
     def coverpoints(cls, run):
@@ -1227,10 +1231,24 @@ class Counters(TopSequence):
                  "COUNT_CLEAR in the clock of a turn-on", "GATES read with an upper gate on",
                  "GATES read with a lower gate on"]
         if run.wrap_reachable():
-            bins.append("EVENTS_TOTAL wrapped")
+            bins.append(cls.WRAPPED)
         return {cls.POINT: tuple(bins)}
 
+    def __init__(self, run):
+        super().__init__(run)
+        coverage = run.coverage
+        self.wrap = run.wrap_reachable() and (
+            self.WRAPPED in coverage.open_bins(self.POINT)
+            or any("COUNTER_WRAP" in coverage.open_bins(point)
+                   for point in (IrqService.SET, IrqService.RAISED)))
+        if self.wrap:
+            # the gates kept switching too: no disable, fault or watchdog trip meanwhile
+            self.claims = frozenset({COUNTERS, IRQ, PERIOD, MODULATION, CTRL, FAULT, WATCHDOG})
+
     def body(self):
+        if self.wrap:
+            yield from self._wrap()
+            return
         run, rng = self.run, self.rng
         open_ = run.coverage.open_bins(self.POINT)
         if "COUNT_CLEAR in the clock of a turn-on" in open_ or rng.random() < 0.2:
@@ -1242,6 +1260,30 @@ class Counters(TopSequence):
             yield from run.until(lambda: run.two_on_since_read, limit=3000)
         reads = [run.read(regs.EVENTS_BASE + i) for i in range(run.model.phases)]
         yield from run.settle(*reads, run.read(regs.EVENTS_TOTAL), run.read(regs.GATES))
+
+    def _wrap(self):
+        """EVENTS_TOTAL brought past 2**counter_width: every leg turns on once an update of a
+        few dozen clocks (a slot mode at a b whose minimum period is below it; the MDFQM-only
+        top switches as its references make it), no clear meanwhile; its interrupt alone
+        enabled, then served."""
+        run, rng = self.run, self.rng
+        model = run.model
+        period = rng.randint(30, 60)
+        settings = [run.write(regs.PERIOD, period)]
+        if model.max_bits:
+            settings.append(run.write(regs.MODULATION, run.modulation_word(
+                mode=rng.randint(1, len(MODES) - 1), bits=min(3, model.max_bits))))
+        yield from run.settle(*settings, run.write(regs.IRQ_ENABLE, regs.IRQ_COUNTER_WRAP),
+                              run.write(regs.IRQ_STATUS, regs.IRQ_MASK))
+        before = run.coverage.count(self.POINT, self.WRAPPED)
+        # at least one turn-on an update (slot modes), each within the period asked for
+        yield from run.until(lambda: (run.coverage.count(self.POINT, self.WRAPPED) > before
+                                      or not model.driver.active),
+                             limit=((1 << model.counter_width) + 8) * (period + 8))
+        status = run.read(regs.IRQ_STATUS)
+        yield from run.settle(run.read(regs.EVENTS_TOTAL), status)
+        yield from run.settle(run.write(regs.IRQ_STATUS, regs.IRQ_COUNTER_WRAP),
+                              run.restore(regs.IRQ_ENABLE, regs.PERIOD, regs.MODULATION))
 
 
 # ------------------------------------------------------------------- the bus, any register

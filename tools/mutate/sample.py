@@ -180,8 +180,7 @@ def sized(block: str, seed: int, size: int):
         return blocks.core_runs(seed, size)
     if block == "generator":
         return blocks.generator_runs(seed, size)
-    bus = "wishbone" if block == "top_wb" else "axi4lite"
-    return blocks.top_runs(bus, (size,))(seed)
+    return blocks.top_runs(block, (size,))(seed)
 
 
 def build(block: str, keys, directory: Path):
