@@ -107,8 +107,10 @@ def tie_bins(t, contract, rule):
 
 def x_at_use(model, codes, settings, limit=4096):
     """The integrators ``X`` of the update that takes a beat of ``codes`` offered now (the model
-    ready): a copy of the model run ahead with ``settings`` (``period``, ``osr``,
-    ``zero_policy``) held; None if that update does not start within ``limit`` clocks."""
+    ready): a copy of the model run ahead with ``settings`` held (the keyword inputs of its
+    ``step`` besides the stream: ``period``, ``osr``, ``zero_policy`` for the core's model, and
+    ``mode`` and ``bits`` too for the generator's); None if that update does not start within
+    ``limit`` clocks."""
     probe = copy.deepcopy(model)
     probe.step(ref_valid=1, ref=codes, **settings)
     for _ in range(limit):
