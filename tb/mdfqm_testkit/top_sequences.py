@@ -13,6 +13,7 @@ from typing import ClassVar
 from mdfqm_spec import regmap as regs
 from mdfqm_spec.contract import MODES, min_period
 from mdfqm_testkit.bbit_stimulus import ROUNDING_PLACES
+from mdfqm_testkit.core_stimulus import TIE_BINS
 from mdfqm_testkit.coverage import band, band_low, bands
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Sequence, doc, rdl, robustness
@@ -755,13 +756,58 @@ class HeldIntegrators(TopSequence):
         run.stream.stalled = True
         ready = yield from run.until(lambda: m.ref_ready and run.stream.offered is None,
                                      limit=20_000)
-        legs = [int(b.split()[1]) for b in run.coverage.open_bins(self.POINT)]
-        codes = run.stream.held_integrators_codes(rng.choice(legs or range(m.phases)), mode)
-        if ready and codes is not None:
-            run.stream.offered, run.stream.label = codes, "held"
-            yield
+        if ready:
+            legs = [int(b.split()[1]) for b in run.coverage.open_bins(self.POINT)]
+            codes = run.stream.held_integrators_codes(rng.choice(legs or range(m.phases)), mode)
+            if codes is not None:
+                run.stream.offered, run.stream.label = codes, "held"
+                yield
         run.stream.stalled = False
         yield from run.updates(2)
+        run.stream.kind = "sine"
+
+
+class SortTies(TopSequence):
+    """MDFQM updates at the sorts' ties: beats aimed so that the update that takes each has two
+    legs' T equal or one step (N) apart, where sort1's tie-break decides their order, or its
+    two largest candidates equal or close, where the smallest j wins; foreseen from the
+    integrators of the model run ahead (as the core's ``ties`` scenario:
+    mdfqm_testkit.core_stimulus.aimed_tie)."""
+
+    rules = (doc(CONTRACT_MD, "Sort1 (N-input sort) tie-break"),
+             doc(CONTRACT_MD, "Candidates and the two selection rules"))
+    claims = frozenset({STREAM, MODULATION})
+    POINT = "MDFQM update at a tie of the sorts"
+    #: aims a trial makes at most (it ends earlier, half the time, once the bins are hit)
+    AIMS = 8
+
+    @classmethod
+    def applies(cls, run) -> bool:
+        """Long runs (each aim runs a copy of the model ahead to the update)."""
+        return run.cycles >= LONG_TIMES_RUN
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: TIE_BINS}
+
+    def body(self):
+        run, m = self.run, self.run.model
+        if m.max_bits:          # MDFQM: the legs' order and the largest candidate decide
+            word = run.modulation_word(mode=0)
+            run.nominal[regs.MODULATION] = word
+            yield from run.settle(run.write(regs.MODULATION, word))
+        run.stream.kind = "linear"
+        for _ in range(self.AIMS):
+            if not run.coverage.open_bins(self.POINT) and self.rng.random() < 0.5:
+                break
+            run.stream.stalled = True
+            ready = yield from run.until(lambda: m.ref_ready and run.stream.offered is None,
+                                         limit=20_000)
+            if ready:
+                run.stream.offered, run.stream.label = run.stream.sort_tie_codes(), "sort tie"
+                yield
+            run.stream.stalled = False
+            yield from run.updates(2)
         run.stream.kind = "sine"
 
 
@@ -978,7 +1024,7 @@ class Watchdog(TopSequence):
     rules = (robustness("the controller stops sending references"),
              doc(TOP_MD, "Reference watchdog"), rdl("WATCHDOG.TIMEOUT"),
              rdl("WATCHDOG_TRIPS.TRIPS"), rdl("CMD.WATCHDOG_CLEAR"), rdl("STATUS.WATCHDOG"))
-    claims = frozenset({WATCHDOG, STREAM, REF, PERIOD})
+    claims = frozenset({WATCHDOG, STREAM, REF, PERIOD, MODULATION})
     POINT = "watchdog"
     OCTAVES = "tripped at a TIMEOUT in"
 
@@ -1010,13 +1056,17 @@ class Watchdog(TopSequence):
         else:
             timeout = {"tripped at TIMEOUT 1": 1, "tripped at TIMEOUT 8..": rng.choice([8, 9, 13]),
                        "TIMEOUT lowered below the quiet count": 8}.get(pick, rng.randint(2, 7))
-        # short updates for the long timeouts (a trip takes TIMEOUT of them)
+        # short updates for the long timeouts (a trip takes TIMEOUT of them): MDFQM's, not a
+        # slot mode's at a large b (at least 2**b clocks)
         period = rng.randint(20, 40) if pick in octaves else rng.choice([90, rng.randint(20, 40)])
-        yield from run.settle(run.write(regs.PERIOD, period), run.write(regs.WATCHDOG, timeout))
+        settings = [run.write(regs.PERIOD, period), run.write(regs.WATCHDOG, timeout)]
+        if pick in octaves and model.max_bits:
+            settings.append(run.write(regs.MODULATION, run.modulation_word(mode=0)))
+        yield from run.settle(*settings)
         run.stream.stalled = True
         if pick in octaves:             # the quiet updates first, then the polling below
             yield from run.until(lambda: model.wd_quiet + 2 >= timeout or model.wd_tripped,
-                                 limit=(timeout + 2) * (period + 8))
+                                 limit=(timeout + 2) * (run.update_clocks(period) + 8))
         if pick == "TIMEOUT lowered below the quiet count":
             yield from run.until(lambda: model.wd_quiet >= 3, limit=5000)
             yield from run.settle(run.write(regs.WATCHDOG, rng.randint(1, 2)))
@@ -1032,7 +1082,7 @@ class Watchdog(TopSequence):
         run.stream.stalled = False
         yield from run.wait(rng.randint(10, 200))
         yield from run.settle(run.command(regs.CMD_WATCHDOG_CLEAR),
-                              run.restore(regs.WATCHDOG, regs.PERIOD),
+                              run.restore(regs.WATCHDOG, regs.PERIOD, regs.MODULATION),
                               run.read(regs.STATUS))
 
 

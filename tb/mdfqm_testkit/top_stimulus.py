@@ -35,7 +35,14 @@ from mdfqm_testkit.bbit_stimulus import (
     tie_codes,
 )
 from mdfqm_testkit.bus_masters import MASTERS, Access
-from mdfqm_testkit.core_stimulus import extreme_codes, linear_amplitude, sine_codes, x_at_use
+from mdfqm_testkit.core_stimulus import (
+    aimed_tie,
+    extreme_codes,
+    linear_amplitude,
+    sine_codes,
+    tie_bins,
+    x_at_use,
+)
 from mdfqm_testkit.coverage import Coverage, band
 from mdfqm_testkit.harness import pack
 from mdfqm_testkit.sequences import Waits
@@ -128,10 +135,7 @@ class StreamSource:
         code range or the update is not foreseen."""
         m, c, n = self.run.model, self.contract, self.phases
         bits = m.max_bits
-        settings = {"period": m.period, "osr": m.osr, "mode": m.mode_request,
-                    "bits": m.bits_request,
-                    "zero_policy": int(bool(m.ctrl & regs.CTRL_ZERO_POLICY))}
-        x = x_at_use(m.core, [0] * n, settings)
+        x = x_at_use(m.core, [0] * n, self._held_settings())
         if x is None:
             return None
         for _ in range(ROUNDING_TRIES):
@@ -142,6 +146,24 @@ class StreamSource:
             if all(c.code_min <= code <= c.code_max for code in codes):
                 return codes
         return None
+
+    def sort_tie_codes(self) -> list:
+        """A beat inside the linear range, offered now (the model ready), moved so that its
+        update meets a tie of sort1 or sort2 (core_stimulus.aimed_tie, from the integrators of
+        the model run ahead)."""
+        m = self.run.model
+        base = self.sine_codes(self.rng.uniform(0.2, 0.9) * linear_amplitude(self.phases))
+        return aimed_tie(self.rng, m.core, self.contract, m.rule, self._held_settings(), base)
+
+    def _held_settings(self) -> dict:
+        """The core's (the generator's) inputs besides the stream, as the registers hold them
+        now: what a copy of its model run ahead steps with."""
+        m = self.run.model
+        settings = {"period": m.period, "osr": m.osr,
+                    "zero_policy": int(bool(m.ctrl & regs.CTRL_ZERO_POLICY))}
+        if m.max_bits:
+            settings.update(mode=m.mode_request, bits=m.bits_request)
+        return settings
 
     def _beat(self):
         rng, c, n = self.rng, self.contract, self.phases
@@ -298,6 +320,13 @@ class TopRun(Waits):
     def slot_length(self) -> int:
         core = self.model.core
         return max(1, core.slot_len if getattr(core, "mode_lat", 0) else core.p_lat)
+
+    def update_clocks(self, period: int) -> int:
+        """Clocks an update lasts with PERIOD = ``period`` in the mode and b requested now (a
+        slot mode's updates last at least ``max(L_b, 2**b)``: docs/contract.md)."""
+        m = self.model
+        mode, bits, _ = latch_mode(m.mode_request, m.bits_request, m.max_bits)
+        return max(period, min_period(bool(mode), bits, m.latency, m.long_latency))
 
     def wrap_reachable(self) -> bool:
         """Whether EVENTS_TOTAL is brought past 2**counter_width in this run: a wrap takes
@@ -877,6 +906,11 @@ class Monitor:
                     for place, leg in found:
                         if place == "on it":
                             self.hit(seq.HeldIntegrators.POINT, f"leg {leg}")
+            if not mode:
+                _, x, r = core.inflight[:3]
+                t = [xi + ri for xi, ri in zip(x, r, strict=True)]
+                for bin_ in tie_bins(t, m.contract, m.rule):
+                    self.hit(seq.SortTies.POINT, bin_)
             request = (facts["mode_request"], facts["bits_request"])
             built = len(MODES) if m.max_bits else 1
             point = seq.ModulationClamp.POINT
