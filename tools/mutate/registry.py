@@ -313,6 +313,18 @@ READINGS: tuple[Reading, ...] = (
         "largest (the duties sum to `N FULL > 0`); the ties scenario's aimed equal legs show "
         "no difference."),
     Reading(
+        "rtl/mdfqm_gateware/arith.py@7a1a5f4d sort1 $sub#1 B[15] const1",
+        "sort1's second compare (the first layer's larger value against leg 2) reads that "
+        "value with its bit 13 set: it puts it first while leg 2's `T` lies up to 2**13 "
+        "above it, so `rho` comes out as (that value, leg 2's, the smaller one). By the "
+        "contract's duties that moves the split `delta <= 2**13` between those two legs to "
+        "`d_1 = -delta` and adds `delta` to both `d_0` and `d_2`: their order, and the "
+        "smallest-j tie-break between them, are unchanged, and the true `d_1 = delta` never "
+        "won (the duties sum to `N FULL = 49,152`, so the largest is at least 16,384); `j*` "
+        "is 0 or 2 as before and `j* = 2` turns on the same two legs. The state, the feedback "
+        "and the integrators are the same (N = 3, largest duty; the core outputs no sorted "
+        "value); 3.6 million clocks show no difference."),
+    Reading(
         "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#1 A[0] inv",
         "the latched zero policy is loaded inverted at each update start and then toggles every "
         "clock (the inversion sits on the hold path too); the decoder reads it only in the "
