@@ -409,4 +409,9 @@ READINGS: tuple[Reading, ...] = (
         "not equivalent, out of the runs' reach: the watchdog's quiet count is compared with "
         "TIMEOUT with its bit 11 flipped while bit 14 is set, after 16,384 update starts "
         "without a reference (a TIMEOUT of 16,384 or more and updates to match)."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@db3a74c3 top $mux#0 Y[7] cnot1/12",
+        "not equivalent, out of the runs' reach: WATCHDOG_TRIPS' next value has its bit 7 "
+        "flipped while its bit 12 is set, after 4,096 watchdog trips without a COUNT_CLEAR "
+        "(the 16-bit count is the register map's, whatever counter_width is)."),
 )
