@@ -753,17 +753,12 @@ class HeldIntegrators(TopSequence):
             yield from run.until(lambda: m.core.saturated, limit=20_000)
         run.stream.kind = "linear"
         yield from run.updates(4)
-        run.stream.stalled = True
-        ready = yield from run.until(lambda: m.ref_ready and run.stream.offered is None,
-                                     limit=20_000)
-        if ready:
+
+        def codes():
             legs = [int(b.split()[1]) for b in run.coverage.open_bins(self.POINT)]
-            codes = run.stream.held_integrators_codes(rng.choice(legs or range(m.phases)), mode)
-            if codes is not None:
-                run.stream.offered, run.stream.label = codes, "held"
-                yield
-        run.stream.stalled = False
-        yield from run.updates(2)
+            return run.stream.held_integrators_codes(rng.choice(legs or range(m.phases)), mode)
+
+        yield from run.aimed_beat(codes, "held")
         run.stream.kind = "sine"
 
 
@@ -791,8 +786,8 @@ class SortTies(TopSequence):
         return {cls.POINT: TIE_BINS}
 
     def body(self):
-        run, m = self.run, self.run.model
-        if m.max_bits:          # MDFQM: the legs' order and the largest candidate decide
+        run = self.run
+        if run.model.max_bits:  # MDFQM: the legs' order and the largest candidate decide
             word = run.modulation_word(mode=0)
             run.nominal[regs.MODULATION] = word
             yield from run.settle(run.write(regs.MODULATION, word))
@@ -800,14 +795,7 @@ class SortTies(TopSequence):
         for _ in range(self.AIMS):
             if not run.coverage.open_bins(self.POINT) and self.rng.random() < 0.5:
                 break
-            run.stream.stalled = True
-            ready = yield from run.until(lambda: m.ref_ready and run.stream.offered is None,
-                                         limit=20_000)
-            if ready:
-                run.stream.offered, run.stream.label = run.stream.sort_tie_codes(), "sort tie"
-                yield
-            run.stream.stalled = False
-            yield from run.updates(2)
+            yield from run.aimed_beat(run.stream.sort_tie_codes, "sort tie")
         run.stream.kind = "sine"
 
 

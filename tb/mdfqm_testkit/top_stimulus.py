@@ -321,6 +321,21 @@ class TopRun(Waits):
         core = self.model.core
         return max(1, core.slot_len if getattr(core, "mode_lat", 0) else core.p_lat)
 
+    def aimed_beat(self, codes, label: str):
+        """One beat aimed from the model's state: the stream stalls until the model is ready
+        with nothing offered, ``codes()`` (called then; None: no beat) is offered in that
+        clock, and the stream runs again for two updates."""
+        self.stream.stalled = True
+        ready = yield from self.until(lambda: self.model.ref_ready and self.stream.offered is None,
+                                      limit=20_000)
+        if ready:
+            beat = codes()
+            if beat is not None:
+                self.stream.offered, self.stream.label = beat, label
+                yield
+        self.stream.stalled = False
+        yield from self.updates(2)
+
     def update_clocks(self, period: int) -> int:
         """Clocks an update lasts with PERIOD = ``period`` in the mode and b requested now (a
         slot mode's updates last at least ``max(L_b, 2**b)``: docs/contract.md)."""

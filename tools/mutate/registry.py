@@ -376,9 +376,10 @@ READINGS: tuple[Reading, ...] = (
     Reading(
         "rtl/mdfqm_gateware/arith.py@7a1a5f4d core.sort1 $sub#2 B[7] const0",
         "not equivalent, a hole of the top's stimulus: one of sort1's compares reads one leg's "
-        "T without its bit 5, which reorders two legs whose T are a few steps apart; the core's "
-        "ties scenario aims at such near ties (the core block kills its like), the top's "
-        "stimulus does not."),
+        "T without its bit 5, which reorders two legs whose T are a few steps apart; the state "
+        "moves only when the largest candidates are close at the same update. The top's "
+        "SortTies aims at ties (legs equal or one step apart, candidates equal or close), "
+        "not at that pair of coincidences."),
     Reading(
         "rtl/mdfqm_gateware/top.py@b3f43508 top $mux#4 A[28] const0",
         "not equivalent, out of any simulation's reach: bit 28 of EVENTS[0] (through the "
