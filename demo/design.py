@@ -1,6 +1,6 @@
 """The board-independent demo: UART -> bridge -> registers, an N-phase sine NCO feeding the
-drop-in top (:class:`~mdfqm_gateware.top.MdfqmTop`), gates, fault, LEDs, buttons and switching
-counters.
+drop-in top (:class:`~mdfqm_gateware.top.MdfqmTop`), gates, fault, LEDs, buttons and a clock
+counter for telemetry (the switching counters are the top's ``EVENTS_i``).
 
 Board tops (``boards/<board>/top.py``) only add the clock, the reset and the pins; everything
 here is simulated as one toplevel by ``tb/test_demo_top.py`` and predicted clock by clock by
@@ -56,7 +56,7 @@ class DemoConfig:
     baud : int
         UART rate (8N1); must be within 2 % of ``clk_hz / round(clk_hz / baud)``.
     phases, width : int
-        The top's (``phases`` in [3, 8] for the demo's counters).
+        The top's (``phases`` in [3, 8], the demo's tested range).
     buttons : tuple of str
         Action of each button input, from :data:`ACTIONS`, no repeats.
     debounce : int or None
@@ -226,27 +226,19 @@ class DemoDesign(wiring.Component):
         ]
         m.d.sync += self.led_active.eq((top.upper | top.lower) != 0)
 
-        # telemetry: turn-ons at the pins (the top's EVENTS), copied together by SNAPSHOT
-        upper_prev, lower_prev = Signal(n), Signal(n)
-        m.d.sync += [upper_prev.eq(top.upper), lower_prev.eq(top.lower)]
-        turn_on = Signal(n)
-        m.d.comb += turn_on.eq((top.upper & ~upper_prev) | (top.lower & ~lower_prev))
+        # telemetry: the clock counter, copied by SNAPSHOT; the turn-ons are counted by the
+        # top (EVENTS_i), which the host reads after the snapshot
         cycles = Signal(32)
-        switches = [Signal(32, name=f"switches_{i}") for i in range(n)]
         m.d.sync += cycles.eq(cycles + 1)
-        m.d.sync += [s.eq(s + turn_on[i]) for i, s in enumerate(switches)]
         snap_cycles = Signal(32)
-        snap_switches = [Signal(32, name=f"snap_switches_{i}") for i in range(n)]
         with m.If(regs.SNAPSHOT):
             m.d.sync += snap_cycles.eq(cycles)
-            m.d.sync += [s.eq(live) for s, live in zip(snap_switches, switches, strict=True)]
         m.d.comb += [
             regs.ID.eq(ID_VALUE),
             regs.INFO.eq(c.info),
             regs.CLK_HZ.eq(c.clk_hz),
             regs.NCO_PHASE.eq(nco.phase),
             regs.CYCLES.eq(snap_cycles),
-            *(getattr(regs, f"SWITCHES_{i}").eq(s) for i, s in enumerate(snap_switches)),
             self.heartbeat.eq(cycles[c.heartbeat_bit]),
         ]
 

@@ -102,16 +102,14 @@ def host_script(config, rng):
     status = yield from read(top["STATUS"])
     assert status & top_map.STATUS_ACTIVE and not status & top_map.STATUS_FAULT
 
-    # telemetry: the snapshot, then the top's own counters, which keep counting
+    # telemetry as the host reads it: the clock counter's snapshot, then the top's switching
+    # counters (every read's data is the model's: the bridge's reply is checked on the pin)
     yield from write(demo.addr("SNAPSHOT"), 1)
     cycles = yield from read(demo.addr("CYCLES"))
-    switches, events = [], []
-    for i in range(n):
-        switches.append((yield from read(demo.addr(f"SWITCHES_{i}"))))
+    events = []
     for i in range(n):
         events.append((yield from read(top["EVENTS_BASE"] + i)))
-    assert cycles > 4000 and sum(switches) > 100, (cycles, switches)
-    assert all(e >= s for e, s in zip(events, switches, strict=True)), (events, switches)
+    assert cycles > 4000 and min(events) > 30, (cycles, events)
 
     # fault: the pin, the latch, the clear
     yield ("fault", 1)

@@ -46,6 +46,7 @@ class ModulatorMap:
     watchdog: int
     watchdog_trips: int
     watchdog_clear: tuple       # (address, value) of the write that clears the watchdog latch
+    events: int                 # EVENTS_0; leg i's switching counter at events + i
 
 
 TOP_MAP = ModulatorMap(
@@ -60,7 +61,8 @@ TOP_MAP = ModulatorMap(
     time_max=0xFFFF, ctrl_enable=top.CTRL_ENABLE, ctrl_zero_policy=top.CTRL_ZERO_POLICY,
     info=TOP_BASE + top.INFO, modulation=TOP_BASE + top.MODULATION,
     watchdog=TOP_BASE + top.WATCHDOG, watchdog_trips=TOP_BASE + top.WATCHDOG_TRIPS,
-    watchdog_clear=(TOP_BASE + top.CMD, top.CMD_WATCHDOG_CLEAR))
+    watchdog_clear=(TOP_BASE + top.CMD, top.CMD_WATCHDOG_CLEAR),
+    events=TOP_BASE + top.EVENTS_BASE)
 
 
 @dataclass(frozen=True)
@@ -265,11 +267,13 @@ class DemoDevice:
         )
 
     def counters(self) -> Counters:
-        """Snapshot the clock and switching counters (all in the same clock) and read them."""
+        """Snapshot the clock counter, then read it and the top's switching counters
+        (``EVENTS_i``, read one request after another: each a UART exchange, about a
+        millisecond, after the snapshot)."""
         self.client.write(self.demo.addr("SNAPSHOT"), 1)
         return Counters(
             cycles=self.client.read(self.demo.addr("CYCLES")),
-            switches=tuple(self.client.read(self.demo.addr(f"SWITCHES_{i}"))
+            switches=tuple(self.client.read(self.map.events + i)
                            for i in range(self.info.phases)))
 
 

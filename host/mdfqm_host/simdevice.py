@@ -65,7 +65,7 @@ class SimulatedDevice:
                           "NCO_AMP": 1 << (width - 3)}
         self.start = clock()
         self.live = [0.0] * phases            # switching events, advanced with the time
-        self.snapshot = (0, [0] * phases)
+        self.snapshot = 0                      # the clock count at the last SNAPSHOT
         self.last_advance = self.start
 
     # ------------------------------------------------------------------ serial interface
@@ -157,18 +157,16 @@ class SimulatedDevice:
             if reg.access == "RW":
                 self.demo_regs[reg.name] = data & ((1 << reg.width) - 1)
             elif reg.name == "SNAPSHOT":
-                cycles = self._advance()
-                self.snapshot = (cycles, [round(e) & 0xFFFFFFFF for e in self.live])
+                self.snapshot = self._advance()
             return data
         if reg.access == "RW":
             return self.demo_regs[reg.name]
-        values = {"ID": ID_VALUE, "CLK_HZ": self.clk_hz, "CYCLES": self.snapshot[0],
+        values = {"ID": ID_VALUE, "CLK_HZ": self.clk_hz, "CYCLES": self.snapshot,
                   "INFO": self.phases | self.width << 8 | self.acc_bits << 16
                   | INFO_TOP,
                   "NCO_PHASE": (self._advance() * self.demo_regs["NCO_FREQ"])
                   & ((1 << self.acc_bits) - 1),
                   "BUTTONS": 0}
-        values.update({f"SWITCHES_{i}": s for i, s in enumerate(self.snapshot[1])})
         return values.get(reg.name, 0)
 
     def _modulator(self, addr: int, write: bool, data: int) -> int:
@@ -192,6 +190,8 @@ class SimulatedDevice:
                     value = max(value, self.regs[m.dead_min])
                 self.regs[addr] = value
             return data
+        if m.events <= addr < m.events + self.phases:
+            return round(self.live[addr - m.events]) & 0xFFFFFFFF
         if addr == m.status:
             bits = m.status_bits
             active = self.regs[m.ctrl] & m.ctrl_enable and not self.fault

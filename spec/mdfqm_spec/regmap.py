@@ -209,7 +209,8 @@ INFO_TOP = 1 << 24
 
 
 def demo_window(phases: int, width: int, acc_bits: int) -> Window:
-    """The demo's own block: identification, the NCO, telemetry counters, buttons."""
+    """The demo's own block: identification, the NCO, the clock counter, buttons. The
+    switching counters are the top's own (``EVENTS_i``), not repeated here."""
     validate_int(phases, "phases", 1, 8)
     return Window("demo", DEMO_BASE, 5, (
         Register("ID", 0x00, "R", reset=f"{ID_VALUE:#010x}", doc=f"{ID_VALUE:#010x} ('MDFQ')"),
@@ -221,11 +222,8 @@ def demo_window(phases: int, width: int, acc_bits: int) -> Window:
         Register("NCO_AMP", 0x04, "RW", width - 1,
                  doc="peak reference code, 2**(width-2) codes per Vdc"),
         Register("NCO_PHASE", 0x05, "R", acc_bits, doc="phase accumulator"),
-        Register("SNAPSHOT", 0x06, "W", 1, doc="copy CYCLES and SWITCHES_i, all in one clock"),
+        Register("SNAPSHOT", 0x06, "W", 1, doc="copy the clock counter into CYCLES"),
         Register("CYCLES", 0x07, "R", doc="clock counter at the last SNAPSHOT"),
-        *(Register(f"SWITCHES_{i}", 0x08 + i, "R",
-                   doc=f"turn-ons of either switch of leg {i} at the last SNAPSHOT")
-          for i in range(phases)),
         Register("BUTTONS", 0x10, "R", 8, doc="debounced buttons, bit i = button i pressed"),
     ))
 

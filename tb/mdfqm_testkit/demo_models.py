@@ -338,9 +338,7 @@ class DemoModel:
         self.top = TopModel(n, c.width, dead_min=c.dead_min, max_bits=c.max_bits)
         self.top_base, self.top_width = TOP_BASE, top_map.ADDR_WIDTH
         self.buttons = ButtonsModel(len(c.buttons), c.debounce) if c.buttons else None
-        self.cycles, self.switches = 0, [0] * n
-        self.snap_cycles, self.snap = 0, [0] * n
-        self.upper_prev = self.lower_prev = 0
+        self.cycles = self.snap_cycles = 0
         self.led_active = 0
         self.constants = {"ID": ID_VALUE, "INFO": c.info, "CLK_HZ": c.clk_hz}
 
@@ -352,7 +350,7 @@ class DemoModel:
                 "trigger": self.nco.acc >> (self.config.acc_bits - 1)}
 
     def step(self, uart_rx=1, buttons=0, fault_in=0) -> dict:
-        c, n = self.config, self.n
+        c = self.config
         pins = self.pins()
         urx, br, utx = self.urx.outputs(), self.bridge.outputs(), self.utx.outputs()
         seq, owner = self.seq.outputs(), self.arbiter.owner
@@ -390,7 +388,7 @@ class DemoModel:
                         else max(amp - step, 0)),
         }
         ro = dict(self.constants, NCO_PHASE=nco["phase"], CYCLES=self.snap_cycles,
-                  BUTTONS=btn["state"], **{f"SWITCHES_{i}": self.snap[i] for i in range(n)})
+                  BUTTONS=btn["state"])
         self.demo.step(cyc=bus["cyc"] and hit_demo, stb=bus["stb"] and hit_demo, we=bus["we"],
                        adr=adr & _mask(dw.addr_width), dat_w=bus["dat_w"], ro=ro, sets=sets)
         self.nco.step(freq=freq, amplitude=amp, ready=ref_ready)
@@ -400,13 +398,9 @@ class DemoModel:
                       ref_valid=nco["valid"], ref=nco["payload"], fault_in=fault_in)
 
         upper, lower = pins["upper"], pins["lower"]
-        turn_on = (upper & ~self.upper_prev) | (lower & ~self.lower_prev)
         if demo["SNAPSHOT"]:
-            self.snap_cycles, self.snap = self.cycles, list(self.switches)
+            self.snap_cycles = self.cycles
         self.cycles = (self.cycles + 1) & 0xFFFFFFFF
-        self.switches = [(s + ((turn_on >> i) & 1)) & 0xFFFFFFFF
-                         for i, s in enumerate(self.switches)]
-        self.upper_prev, self.lower_prev = upper, lower
         self.led_active = int((upper | lower) != 0)
         if self.buttons:
             self.buttons.step(raw=buttons)
