@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from amaranth import Module, Mux, Signal
+from amaranth import Cat, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out, connect
 
@@ -255,17 +255,31 @@ class DemoDesign(wiring.Component):
 
         freq, amp = regs.NCO_FREQ, regs.NCO_AMP
         freq_top, amp_top = (1 << c.acc_bits) - 1, (1 << (c.width - 1)) - 1
-        up = freq + (freq >> 3) + 1                  # about +12.5 %, saturating
-        down = freq - (freq >> 3) - 1                # about -12.5 %, down to 0
+        # each step one carry chain, its carry out the saturation test: f + f/8 + 1 (about
+        # +12.5 %) as (2f + 1 + 2 (f/8) + 1) / 2; f - f/8 - 1 as f + ~(f/8), which carries out
+        # exactly when f >= 1 (else the step stops at 0); the amplitude's likewise (a - step
+        # as a + 2**(width-1) - step, whose top bit says a >= step)
+        eighth = Signal(c.acc_bits)
+        up = Signal(c.acc_bits + 2)
+        down = Signal(c.acc_bits + 1)
+        amp_up = Signal(c.width)
+        amp_down = Signal(c.width)
+        m.d.comb += [
+            eighth.eq(freq >> 3),
+            up.eq(Cat(1, freq) + Cat(1, eighth)),
+            down.eq(freq + ~eighth),
+            amp_up.eq(amp + c.amp_step),
+            amp_down.eq(amp + ((1 << (c.width - 1)) - c.amp_step)),
+        ]
         m.d.comb += [
             regs.NCO_FREQ_set.eq(press("freq_up") | press("freq_down")),
             regs.NCO_FREQ_value.eq(Mux(press("freq_up"),
-                                       Mux(up > freq_top, freq_top, up),
-                                       Mux(freq > (freq >> 3), down, 0))),
+                                       Mux(up[-1], freq_top, up[1:-1]),
+                                       Mux(down[-1], down[:-1], 0))),
             regs.NCO_AMP_set.eq(press("amp_up") | press("amp_down")),
             regs.NCO_AMP_value.eq(Mux(press("amp_up"),
-                                      Mux(amp + c.amp_step > amp_top, amp_top, amp + c.amp_step),
-                                      Mux(amp > c.amp_step, amp - c.amp_step, 0))),
+                                      Mux(amp_up[-1], amp_top, amp_up[:-1]),
+                                      Mux(amp_down[-1], amp_down[:-1], 0))),
             seq.enable_toggle.eq(press("enable")),
             seq.fault_clear.eq(press("fault_clear")),
         ]
