@@ -93,7 +93,7 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
         opts = [re.sub(r"--seed\s+\d+", "", o).strip() for o in opts] + [f"--seed {seed}"]
     start = time.monotonic()
     platform.build(DemoTop(board), name=NAME, build_dir=str(directory), do_program=False,
-                   verbose=verbose, nextpnr_opts=" ".join(opts))
+                   verbose=verbose, nextpnr_opts=" ".join(opts), synth_opts=board.synth_opts)
     seconds = time.monotonic() - start
     result = parse_nextpnr_log((directory / f"{NAME}.tim").read_text())
     (directory / "summary.json").write_text(json.dumps(

@@ -118,6 +118,7 @@ class Board:
     pin_labels: dict = field(default_factory=dict)   # connector pin -> silkscreen name
     por_us: float = 20.0        # reset held after PLL lock (iCE40 BRAM needs > 3 us)
     nextpnr_opts: str = ""
+    synth_opts: str = ""        # options of Yosys's synth_<family> (the UP5K's "-dsp")
     demo: dict = field(default_factory=dict)      # DemoConfig overrides
     notes: str = ""
 

@@ -103,6 +103,18 @@ def test_yosys_stat_parsing():
                                              "SB_DFFSR": 762}
 
 
+def test_report_row_gives_the_median_and_the_minimum_over_the_seeds():
+    board = boards.get("icebreaker")
+    resources = {"luts": 3500, "ffs": 2400, "logic": (4224, 5280), "brams": (1, 30),
+                 "plls": (1, 1), "fmax": 28.3, "verdict": "PASS", "target": 27.0}
+    fmaxes = {1: 28.3, 2: 29.6, 3: 26.9, 4: 27.5, 5: 29.3}
+    text = report.table([(board, resources, 113.0, fmaxes)], ["tools"], None, (1, 2, 3, 4, 5))
+    row = next(line for line in text.splitlines() if line.startswith("| icebreaker"))
+    assert "| 4224 / 5280 (80 %) |" in row
+    assert "| 28.3 (PASS, +5 %) | 28.3 / 26.9 (FAIL on some seeds) | 113 |" in row
+    assert "the median and the minimum Fmax over nextpnr seeds 1,2,3,4,5" in text
+
+
 def test_report_table_is_spliced_between_markers():
     block = f"{report.BEGIN}\nnew\n{report.END}"
     assert report.splice(f"a\n{report.BEGIN}\nold\n{report.END}\nb\n", block) == \

@@ -1,10 +1,9 @@
 """iCEBreaker (iCE40UP5K-SG48): the default board.
 
-Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 27 MHz system clock (the demo reaches
-26.5-28.9 MHz on the UP5K over nextpnr seeds 1-4, measured 2026-11-27 with YoWASP nextpnr-ice40:
-seed 1 28.93, seed 2 27.85, seed 3 28.08, seed 4 26.47 MHz, so the build places with seed 1;
-its critical path is the bridge's register read through the top's read multiplexer). The
-MDFQM-only top: the full generator does not fit beside the demo.
+Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 27 MHz system clock. The full generator
+(max_bits 8, every mode), synthesised with the UP5K's DSP blocks; the demo fills most of the
+part, and its Fmax over nextpnr seeds 1-5 and the logic cells used are in docs/boards.md's
+table (``make report``). The build places with seed 1.
 Pins: gates, fault and scope trigger on PMOD1A; UART through the FTDI (second channel);
 LEDs: green = active, red = fault, break-off LED2 = heartbeat; buttons: the user button
 (enable toggle) and the break-off PMOD's three buttons.
@@ -34,6 +33,8 @@ BOARD = Board(
     fault_attrs={"IO_STANDARD": "SB_LVCMOS", "PULLUP": 1},
     extra_resources=tuple(ICEBreakerPlatform.break_off_pmod),
     notes="The break-off PMOD (PMOD2) must be attached for the heartbeat LED and buttons 1-3.",
-    # the demo fills 80 % of the UP5K and meets 27 MHz only with some placements (above)
     nextpnr_opts="--seed 1",
+    # the UP5K's SB_MAC16 blocks take the reference scaler's multipliers (as in make perf)
+    synth_opts="-dsp",
+    demo={"max_bits": 8},
 )
