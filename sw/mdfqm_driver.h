@@ -114,8 +114,9 @@ uint32_t mdfqm_watchdog_trips(const mdfqm_t *dev);
  * reaction in force. Without the ASC built in (dev->asc false) every reaction is all off. */
 void mdfqm_set_fault_reaction(const mdfqm_t *dev, mdfqm_source_t source,
                               mdfqm_reaction_t reaction);
-/* CMD.ALL_OFF: an active short circuit in force ends, every switch off from the next clock
- * (the latches stay set: clear them as usual). Firmware's step from ASC to all off once the
+/* CMD.ALL_OFF: an active short circuit in force ends, every switch off from the clock after the
+ * register file takes the write (two clocks after the bus request; the latches stay set: clear
+ * them as usual). Firmware's step from ASC to all off once the
  * speed is below the back-EMF threshold. */
 void mdfqm_fault_all_off(const mdfqm_t *dev);
 /* STATUS.REACTION: the reaction in force (all off also when no latch is set). */

@@ -10,9 +10,10 @@ MDFQM-only top) and :class:`mdfqm_model.driver.GateDriverModel`.
 
 The register bus (:mod:`mdfqm_spec.bus`)
 ----------------------------------------
-Either front issues *accesses* to the register file: a write issued in a cycle takes effect at
-the end of it (visible in the next), a read issued in a cycle returns the registers of that
-cycle.
+Either front issues *accesses* to the register file: a write issued in a cycle is taken by the
+register file ``WRITE_LATENCY`` (1) cycles later and takes effect at the end of that cycle
+(visible in the next), so a write issued in cycle ``c`` is visible from ``c + 2``; a read
+issued in a cycle returns the registers of that cycle. A reset drops a write not yet taken.
 
 - Wishbone classic (:class:`WishboneFrontModel`; 32-bit data, word addresses, ``ADDR_WIDTH``
   bits): a *request* is a cycle with ``cyc & stb & ~ack``; it is the access. ``ack`` is high in
@@ -103,6 +104,7 @@ from mdfqm_spec.bus import (
     AXI_ADDR_WIDTH,
     AXI_RESP_OKAY,
     AXI_RESP_SLVERR,
+    WRITE_LATENCY,
     mapped_words,
     validate_bus,
 )
@@ -336,6 +338,8 @@ class TopModel:
         self.wd_trips = 0
         self.wd_arrival = 0             # a reference arrived in the clock before
         self.fault_reaction = 0
+        #: the writes issued and not yet taken by the register file, oldest first
+        self.writes_issued = [None] * WRITE_LATENCY
 
     # ------------------------------------------------------------------ the register file
     def read(self, address: int, core_out: dict, drv_out: dict, up: int, lo: int) -> int:
@@ -427,6 +431,12 @@ class TopModel:
             signed = value - (1 << 32) if value >> 31 else value
             self.ref[address - REF_BASE] = min(max(signed, c.code_min), c.code_max)
 
+    @property
+    def write_taken(self):
+        """The write ``(address, data)`` the register file takes in this cycle (None: none):
+        the one the front issued ``WRITE_LATENCY`` cycles ago."""
+        return self.writes_issued[0]
+
     def _mode_clamped(self, core_out: dict) -> int:
         return core_out["mode_clamped"] if self.max_bits else self.core_mode_clamped
 
@@ -447,7 +457,8 @@ class TopModel:
         ref_valid = check_bit(ref_valid, "ref_valid")
         fault_in, sync_in = check_bit(fault_in, "fault_in"), check_bit(sync_in, "sync_in")
 
-        write, read = self.front.access(bus)
+        issued, read = self.front.access(bus)
+        write = self.write_taken
         cmd = write[1] if write is not None and write[0] == CMD else 0
         port_ready = self.ref_ready
         core_ready = self.core.ref_ready
@@ -530,5 +541,6 @@ class TopModel:
         if write is not None:
             self.write(*write)
         self.irq_status |= irq_events
-        self.front.advance(bus, write, read, value)
+        self.writes_issued = [*self.writes_issued[1:], issued]
+        self.front.advance(bus, issued, read, value)
         return out

@@ -112,9 +112,10 @@ def test_bus_timing_and_back_to_back_requests():
     bus = Master(m)
     cyc = {"wb_cyc": 1, "wb_stb": 1, "wb_we": 1, "wb_adr": regs.DEAD, "wb_dat_w": 9}
     o0 = bus.tick(**cyc)                 # request
-    assert o0["wb_ack"] == 0 and m.dead == 9   # written at the end of the request cycle
+    assert o0["wb_ack"] == 0 and m.dead == 2   # issued; the register file takes it next
     o1 = bus.tick(**{**cyc, "wb_we": 0})  # ack cycle: the new request is not seen yet
     assert o1["wb_ack"] == 1 and o1["wb_dat_r"] == 0
+    assert m.dead == 9                   # taken at the end of the ack cycle
     o2 = bus.tick(**{**cyc, "wb_we": 0})  # the read is taken now
     o3 = bus.tick(**{**cyc, "wb_we": 0})
     assert o2["wb_ack"] == 0 and o3["wb_ack"] == 1 and o3["wb_dat_r"] == 9
@@ -354,14 +355,16 @@ def axi(**kw):
 
 def test_axil_write_then_read_timing():
     """AW and W in the same clock a: held from a + 1, the write issued in a + 1 (bready high),
-    visible in a + 2 with bvalid; a read's AR in b: issued in b + 1, rdata in b + 2."""
+    bvalid in a + 2, the register file takes it in a + 2 (visible in a + 3); a read's AR in b:
+    issued in b + 1, rdata in b + 2."""
     m = TopModel(3, 16, bus="axi4lite")
     out = m.step(**axi(awaddr=regs.PERIOD * 4, awvalid=1, wdata=40, wvalid=1, bready=1))
     assert out["s_axi_awready"] == out["s_axi_wready"] == 1 and out["s_axi_bvalid"] == 0
     out = m.step(**axi(bready=1))                              # a + 1: issued
-    assert out["s_axi_awready"] == 0 and out["s_axi_bvalid"] == 0 and m.period == 40
-    out = m.step(**axi(bready=1))                              # a + 2: response
+    assert out["s_axi_awready"] == 0 and out["s_axi_bvalid"] == 0 and m.period != 40
+    out = m.step(**axi(bready=1))                              # a + 2: response, taken
     assert out["s_axi_bvalid"] == 1 and out["s_axi_bresp"] == 0 and out["s_axi_awready"] == 1
+    assert m.period == 40
     assert m.step(**axi(rready=1))["s_axi_bvalid"] == 0
     m.step(**axi(araddr=regs.PERIOD * 4 + 3, arvalid=1))       # low address bits ignored
     out = m.step(**axi(rready=0))
@@ -384,15 +387,16 @@ def test_axil_aw_and_w_apart_and_b_backpressure():
         assert out["s_axi_wready"] == 0 and m.ctrl == 0
     m.step(**axi(awaddr=regs.CTRL * 4, awvalid=1))
     m.step()                                                   # issued
+    m.step()                                                   # taken
     assert m.ctrl == regs.CTRL_ENABLE
     m.step(**axi(awaddr=regs.OSR * 4, awvalid=1, wdata=5, wvalid=1))   # B pending, no bready
     for _ in range(4):
         out = m.step()
         assert out["s_axi_bvalid"] == 1 and m.osr == 1         # second write held back
     m.step(**axi(bready=1))                                    # old B taken, new write issued
-    assert m.osr == 5
-    out = m.step()
-    assert out["s_axi_bvalid"] == 1
+    assert m.osr == 1
+    out = m.step()                                             # taken
+    assert out["s_axi_bvalid"] == 1 and m.osr == 5
 
 
 def test_axil_unmapped_words_answer_slverr_and_read_zero():

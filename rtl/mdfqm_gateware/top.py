@@ -11,7 +11,7 @@ from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_spec import regmap
-from mdfqm_spec.bus import AXI_ADDR_WIDTH, mapped_words, validate_bus
+from mdfqm_spec.bus import AXI_ADDR_WIDTH, WRITE_LATENCY, mapped_words, validate_bus
 from mdfqm_spec.contract import (
     BITS_WIDTH,
     MODE_WIDTH,
@@ -204,6 +204,16 @@ class MdfqmTop(wiring.Component):
                                                       formal=self.formal)
             wiring.connect(m, wiring.flipped(self.s_axi), front.bus)
         port = front.port
+        # the write as the register file takes it, WRITE_LATENCY clocks after the front issues
+        # it: registered, so that the bus inputs' paths end here and not in the register
+        # decode and the gate driver behind it (the Fmax path of every device)
+        w_en, w_adr, w_data = port.w_en, port.w_adr, port.w_data
+        for k in range(WRITE_LATENCY):
+            taken = (Signal(name=f"w_en_{k + 1}"),
+                     Signal.like(port.w_adr, name=f"w_adr_{k + 1}", reset_less=True),
+                     Signal.like(port.w_data, name=f"w_data_{k + 1}", reset_less=True))
+            m.d.sync += [taken[0].eq(w_en), taken[1].eq(w_adr), taken[2].eq(w_data)]
+            w_en, w_adr, w_data = taken
 
         # ---------------------------------------------------------------- registers
         ctrl = Signal(2)
@@ -230,17 +240,17 @@ class MdfqmTop(wiring.Component):
 
         # ---------------------------------------------------------------- register port
         cmd = Signal(5)
-        m.d.comb += cmd.eq(Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:5], 0))
+        m.d.comb += cmd.eq(Mux(w_en & (w_adr == regmap.CMD), w_data[:5], 0))
         ref_commit = cmd[0]
         fault_clear = cmd[1]
         count_clear = cmd[2]
         watchdog_clear = cmd[3]
         all_off = cmd[4]
 
-        word = port.w_data
+        word = w_data
 
         def written(address):
-            return port.w_en & (port.w_adr == address)
+            return w_en & (w_adr == address)
 
         with m.If(written(regmap.CTRL)):
             m.d.sync += ctrl.eq(word[:2])
@@ -556,17 +566,22 @@ class MdfqmTop(wiring.Component):
 
     def _irq_properties(self, m, port, status, events):
         """IRQ_STATUS as docs/top.md has it: 0 after reset; each bit set the clock after its
-        event, cleared by a write of IRQ_STATUS with a 1 in that bit (an event in the same clock
-        wins), held otherwise. The write is decoded again here from the port's registered
-        inputs: a property built from the design's own decode would follow its faults."""
-        w_en = Signal(reset_less=True, name="formal_irq_w_en")
-        w_adr = Signal.like(port.w_adr, reset_less=True, name="formal_irq_w_adr")
-        w_data = Signal(len(status), reset_less=True, name="formal_irq_w_data")
+        event, cleared by a write of IRQ_STATUS with a 1 in that bit taken by the register file
+        (WRITE_LATENCY clocks after the front issues it; an event in the same clock wins), held
+        otherwise. The write is followed here from the front's port through registers of the
+        property's own, reset with the design's: a property built from the design's own
+        delay and decode would follow their faults."""
+        w_en, w_adr, w_data = port.w_en, port.w_adr, port.w_data[:len(status)]
+        for k in range(WRITE_LATENCY + 1):
+            later = (Signal(name=f"formal_irq_w_en_{k}"),
+                     Signal.like(port.w_adr, reset_less=True, name=f"formal_irq_w_adr_{k}"),
+                     Signal(len(status), reset_less=True, name=f"formal_irq_w_data_{k}"))
+            m.d.sync += [later[0].eq(w_en), later[1].eq(w_adr), later[2].eq(w_data)]
+            w_en, w_adr, w_data = later
         status_prev = Signal.like(status, reset_less=True, name="formal_irq_status_prev")
         events_prev = Signal(len(status), reset_less=True, name="formal_irq_events_prev")
         rst_prev = Signal(reset_less=True, name="formal_irq_rst_prev")
-        m.d.sync += [w_en.eq(port.w_en), w_adr.eq(port.w_adr), w_data.eq(port.w_data),
-                     status_prev.eq(status), events_prev.eq(events),
+        m.d.sync += [status_prev.eq(status), events_prev.eq(events),
                      rst_prev.eq(ResetSignal())]
         ones = Mux(w_en & (w_adr == regmap.IRQ_STATUS), w_data, 0)
         m.d.comb += [

@@ -1,9 +1,10 @@
 """The register buses of the drop-in top: which fronts exist, and the facts both the gateware and
 the model need about them (``docs/top.md``, "Register bus").
 
-Both fronts drive one register file through the same access rule: a *write* takes effect at the
-end of the clock in which the front issues it (visible in the next clock), a *read* returns the
-registers as they are in the clock in which the front issues it. The Wishbone-classic front
+Both fronts drive one register file through the same access rule: a *write* is taken by the
+register file :data:`WRITE_LATENCY` clocks after the clock in which the front issues it, and
+takes effect at the end of that clock (visible in the next one); a *read* returns the registers
+as they are in the clock in which the front issues it. The Wishbone-classic front
 issues an access in every request clock (``cyc & stb & ~ack``); the AXI4-Lite front issues a
 write in the clock after it holds both the address (AW) and the data (W) and the write response
 channel is free, and a read in the clock after it holds the address (AR) and the read data
@@ -19,12 +20,17 @@ __all__ = [
     "AXI_RESP_OKAY",
     "AXI_RESP_SLVERR",
     "BUSES",
+    "WRITE_LATENCY",
     "mapped_words",
     "validate_bus",
 ]
 
 #: the fronts of :class:`mdfqm_gateware.top.MdfqmTop` (its ``bus`` parameter)
 BUSES = ("wishbone", "axi4lite")
+#: clocks from a write's issue by the front to the clock in which the register file takes it
+#: (the issued write is registered first: the bus inputs' paths end there, not in the register
+#: decode and the gate driver behind it)
+WRITE_LATENCY = 1
 #: AXI4-Lite addresses are byte addresses: the word address shifted left by 2
 AXI_ADDR_WIDTH = ADDR_WIDTH + 2
 #: AXI4-Lite responses: OKAY for every mapped word (also a write to a read-only one, ignored),

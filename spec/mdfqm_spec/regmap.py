@@ -65,7 +65,7 @@ class Field:
     clamp: str = ""           # the value a write stores (tools.regmap_gen.clamp_value)
     doc: str = ""
     onwrite: str = ""         # SystemRDL onwrite, e.g. "woclr" (write 1 to clear)
-    singlepulse: bool = False  # a write-1 strobe: acts in the clock of the write, reads 0
+    singlepulse: bool = False  # a write-1 strobe: acts in the clock the write is taken, reads 0
     intr: bool = False        # an interrupt status bit
     in_force: bool = False    # a write is a request: a read returns the value in force
 

@@ -377,8 +377,8 @@ REGISTERS = (
         "reset": "0",
         "clamp": "",
         "doc": (
-            "commands. Write-1 strobes, acting in the clock of the write; reads 0; other bits "
-            "ignored."
+            "commands. Write-1 strobes, acting in the clock the register file takes the write; "
+            "reads 0; other bits ignored."
         ),
         "count": 1,
         "fields": (

@@ -117,7 +117,8 @@ class Bench:
         bus = self.master.inputs(self.ops)
         if self.offered is None and stream and rng.random() < source_rate:
             self.offered = self.sine_beat()
-        write, read = m.front.access(bus)
+        _, read = m.front.access(bus)
+        write = m.write_taken           # the write the register file takes in this clock
         t = self.trace
         t["dead"].append(m.driver.dead_in_force)     # the legs act on last clock's DEAD
         t["kill"].append(m.driver.fault_input | m.wd_tripped)    # the watchdog: driver stop

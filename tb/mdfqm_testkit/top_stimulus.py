@@ -25,7 +25,7 @@ from itertools import count
 from mdfqm_model.top import TopModel
 from mdfqm_model.update import candidates, remove_common_mode, sort1
 from mdfqm_spec import regmap as regs
-from mdfqm_spec.bus import mapped_words
+from mdfqm_spec.bus import WRITE_LATENCY, mapped_words
 from mdfqm_spec.contract import FEWEST_TRANSITIONS, MODES, latch_mode, min_period
 from mdfqm_testkit import top_sequences as seq
 from mdfqm_testkit.bbit_stimulus import (
@@ -63,25 +63,28 @@ FULL_TOP_RUNS = (seq.LONG_TIMES_RUN, 60_000)
 
 class Aim:
     """The moment an access is held for: ``moment(k)`` tells whether the event happens ``k``
-    clocks from now; ``lead`` clocks before it is the access's clock. ``patience`` clocks
-    later the access goes anyway (the moment may never come: the gates disabled, ...)."""
+    clocks from now; ``lead`` clocks before it is the access's clock: the clock a read is
+    issued in, or the one the register file takes a write in (``delay``, WRITE_LATENCY
+    clocks after its issue: docs/top.md, "Register bus"). ``patience`` clocks later the
+    access goes anyway (the moment may never come: the gates disabled, ...)."""
 
     def __init__(self, run, moment, lead: int, patience: int, unless=None):
         self.run, self.moment, self.lead = run, moment, lead
         self.deadline = run.cycle + patience
         self.unless = unless
+        self.delay = 0
 
     def _given_up(self) -> bool:
         return self.run.cycle >= self.deadline or bool(self.unless and self.unless())
 
     def now(self) -> bool:
         """The access issued in this clock meets the moment (Wishbone: the request clock)."""
-        return self._given_up() or self.moment(self.lead)
+        return self._given_up() or self.moment(self.lead + self.delay)
 
     def next(self) -> bool:
         """The access issued in the next clock meets it (AXI4-Lite: AW and W raised in this
         one)."""
-        return self._given_up() or self.moment(self.lead + 1)
+        return self._given_up() or self.moment(self.lead + self.delay + 1)
 
 
 #: beats on the half-slot grid tried for one whose instant sits at a rounding place
@@ -234,6 +237,8 @@ class TopRun(Waits):
         self.triggers = 0
         self._ahead: list = []
         self._monitor = Monitor(self)
+        #: the pins (``with_pin``) of the writes issued and not yet taken, oldest first
+        self.pins_issued = deque([None] * WRITE_LATENCY)
         mapped = mapped_words(phases)
         rw = {r.offset + i for r in regs.REGISTERS if r.access == "RW"
               for i in range(phases if r.count > 1 else 1)}
@@ -252,7 +257,9 @@ class TopRun(Waits):
     def write(self, address: int, value: int, aim: Aim | None = None,
               with_pin: str | None = None) -> Access:
         """Queue a write; ``with_pin`` ("sync_in", "fault_in") raises that pin in the clock
-        the write is issued."""
+        the register file takes the write."""
+        if aim is not None:
+            aim.delay = WRITE_LATENCY
         access = Access(address, 1, value & 0xFFFF_FFFF, aim, (next(self.tags), with_pin))
         self.queue.append(access)
         return access
@@ -534,9 +541,11 @@ class TopRun(Waits):
         self.stream.decide()
         self._ahead = []
         bus = self.master.inputs(self.queue)
-        write, read = self.model.front.access(bus)
-        issued_write = self.master.issued_write() if write is not None else None
-        pin = issued_write.tag[1] if issued_write is not None else None
+        issued, read = self.model.front.access(bus)
+        write = self.model.write_taken
+        issued_write = self.master.issued_write() if issued is not None else None
+        self.pins_issued.append(issued_write.tag[1] if issued_write is not None else None)
+        pin = self.pins_issued.popleft()        # the pin of the write taken in this clock
         if pin == "sync_in":
             self.sync_in = 1
         elif pin == "fault_in":
@@ -573,6 +582,7 @@ class TopRun(Waits):
         self.master.abort()
         self.queue.clear()
         self.stream.offered = None
+        self.pins_issued = deque([None] * WRITE_LATENCY)
 
     def generate(self):
         for _ in range(self.cycles):
