@@ -239,8 +239,15 @@ class MdfqmTop(wiring.Component):
         reaction_watchdog = Signal(2)
 
         # ---------------------------------------------------------------- register port
+        # the command strobes are decoded from the write as the front issues it and delayed
+        # with it: the decode sits before the registers, not between them and the gate driver
         cmd = Signal(5)
-        m.d.comb += cmd.eq(Mux(w_en & (w_adr == regmap.CMD), w_data[:5], 0))
+        issued_cmd = Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:5], 0)
+        for k in range(WRITE_LATENCY):
+            delayed = Signal(5, name=f"cmd_{k + 1}")
+            m.d.sync += delayed.eq(issued_cmd)
+            issued_cmd = delayed
+        m.d.comb += cmd.eq(issued_cmd)
         ref_commit = cmd[0]
         fault_clear = cmd[1]
         count_clear = cmd[2]
