@@ -44,6 +44,15 @@ def _saturate(value, top: int):
     return Mux(value[k:].any(), top, value[:k])
 
 
+def _delayed(m, value, clocks: int, name: str, reset_less: bool = False):
+    """``value`` through ``clocks`` registers in a row (the last one; ``value`` for 0)."""
+    for k in range(clocks):
+        reg = Signal.like(value, name=f"{name}_{k + 1}", reset_less=reset_less)
+        m.d.sync += reg.eq(value)
+        value = reg
+    return value
+
+
 def _only_asc(driver):
     """Every switch off but those of the active short circuit in force (none when the
     reaction in force is all off)."""
@@ -207,13 +216,9 @@ class MdfqmTop(wiring.Component):
         # the write as the register file takes it, WRITE_LATENCY clocks after the front issues
         # it: registered, so that the bus inputs' paths end here and not in the register
         # decode and the gate driver behind it (the Fmax path of every device)
-        w_en, w_adr, w_data = port.w_en, port.w_adr, port.w_data
-        for k in range(WRITE_LATENCY):
-            taken = (Signal(name=f"w_en_{k + 1}"),
-                     Signal.like(port.w_adr, name=f"w_adr_{k + 1}", reset_less=True),
-                     Signal.like(port.w_data, name=f"w_data_{k + 1}", reset_less=True))
-            m.d.sync += [taken[0].eq(w_en), taken[1].eq(w_adr), taken[2].eq(w_data)]
-            w_en, w_adr, w_data = taken
+        w_en = _delayed(m, port.w_en, WRITE_LATENCY, "w_en")
+        w_adr = _delayed(m, port.w_adr, WRITE_LATENCY, "w_adr", reset_less=True)
+        w_data = _delayed(m, port.w_data, WRITE_LATENCY, "w_data", reset_less=True)
 
         # ---------------------------------------------------------------- registers
         ctrl = Signal(2)
@@ -242,12 +247,8 @@ class MdfqmTop(wiring.Component):
         # the command strobes are decoded from the write as the front issues it and delayed
         # with it: the decode sits before the registers, not between them and the gate driver
         cmd = Signal(5)
-        issued_cmd = Mux(port.w_en & (port.w_adr == regmap.CMD), port.w_data[:5], 0)
-        for k in range(WRITE_LATENCY):
-            delayed = Signal(5, name=f"cmd_{k + 1}")
-            m.d.sync += delayed.eq(issued_cmd)
-            issued_cmd = delayed
-        m.d.comb += cmd.eq(issued_cmd)
+        m.d.comb += cmd.eq(_delayed(m, Mux(port.w_en & (port.w_adr == regmap.CMD),
+                                           port.w_data[:5], 0), WRITE_LATENCY, "cmd"))
         ref_commit = cmd[0]
         fault_clear = cmd[1]
         count_clear = cmd[2]
@@ -578,13 +579,11 @@ class MdfqmTop(wiring.Component):
         otherwise. The write is followed here from the front's port through registers of the
         property's own, reset with the design's: a property built from the design's own
         delay and decode would follow their faults."""
-        w_en, w_adr, w_data = port.w_en, port.w_adr, port.w_data[:len(status)]
-        for k in range(WRITE_LATENCY + 1):
-            later = (Signal(name=f"formal_irq_w_en_{k}"),
-                     Signal.like(port.w_adr, reset_less=True, name=f"formal_irq_w_adr_{k}"),
-                     Signal(len(status), reset_less=True, name=f"formal_irq_w_data_{k}"))
-            m.d.sync += [later[0].eq(w_en), later[1].eq(w_adr), later[2].eq(w_data)]
-            w_en, w_adr, w_data = later
+        clocks = WRITE_LATENCY + 1
+        w_en = _delayed(m, port.w_en, clocks, "formal_irq_w_en")
+        w_adr = _delayed(m, port.w_adr, clocks, "formal_irq_w_adr", reset_less=True)
+        w_data = _delayed(m, port.w_data[:len(status)], clocks, "formal_irq_w_data",
+                          reset_less=True)
         status_prev = Signal.like(status, reset_less=True, name="formal_irq_status_prev")
         events_prev = Signal(len(status), reset_less=True, name="formal_irq_events_prev")
         rst_prev = Signal(reset_less=True, name="formal_irq_rst_prev")
