@@ -209,7 +209,10 @@ class PeriodBelowLatency(TopSequence):
         run, rng = self.run, self.rng
         minimums = slot_minimums(run.model) if run.model.max_bits else {}
         open_ = [v for v in minimums if self.slot_bin(v) in run.coverage.open_bins(self.POINT)]
-        if open_ or (minimums and rng.random() < 0.3):
+        # PERIOD 0 and 1..L-1 take their turns while the slot modes' minimums are still open
+        plain = [b for b in ("0", "1..L-1") if b in run.coverage.open_bins(self.POINT)]
+        slot_turn = bool(open_) and not (plain and rng.random() < 0.5)
+        if slot_turn or (not open_ and not plain and minimums and rng.random() < 0.3):
             low = rng.choice(open_ or list(minimums))
             value = rng.choice([low - 1, rng.randint(run.model.latency, low - 1)])
             word = run.modulation_word(legal=True, mode=rng.randint(1, len(MODES) - 1),
@@ -221,7 +224,8 @@ class PeriodBelowLatency(TopSequence):
             yield from run.updates(1)
             yield from run.settle(run.read(regs.STATUS))
             return
-        value = rng.choice([0, rng.randrange(1, run.model.latency)])
+        pick = rng.choice(plain or ["0", "1..L-1"])
+        value = 0 if pick == "0" else rng.randrange(1, run.model.latency)
         yield from run.settle(run.write(regs.PERIOD, value))
         yield from run.updates(2)
         yield from run.settle(run.read(regs.STATUS), run.restore(regs.PERIOD))
