@@ -133,8 +133,11 @@ class AxiLiteFront(wiring.Component):
             return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
 
         aw_full, w_full, ar_full = Signal(), Signal(), Signal()
-        aw_adr, ar_adr = Signal(aw), Signal(aw)
-        w_data = Signal(32)
+        # The holding registers are read only while their full flag is set, and every fill loads
+        # them, so a reset has no value to give them.
+        aw_adr = Signal(aw, reset_less=True)
+        ar_adr = Signal(aw, reset_less=True)
+        w_data = Signal(32, reset_less=True)
         do_write, do_read = Signal(), Signal()
         m.d.comb += [
             bus.awready.eq(~aw_full),
