@@ -39,8 +39,10 @@ class UartBridge(wiring.Component):
     tx : Out(stream.Signature(8))
         Reply bytes (to :class:`~.uart.UartTx`); valid and payload combinational from registers.
     bus : Out(WishboneSignature(addr_width))
-        Wishbone-classic master; ``adr`` is the low ``addr_width`` bits of the request's 16-bit
-        address. ``sel`` is always ``0b1111``.
+        Wishbone-classic master; ``adr`` (the low ``addr_width`` bits of the request's 16-bit
+        address) and ``dat_w`` are the request's registers: they change while a request is
+        received and hold still from its checksum byte to the end of its cycle. ``sel`` is
+        always ``0b1111``.
     checksum_error : Out(1)
         One-clock pulse (registered) when a request with a wrong checksum is answered ``'E'``.
     bus_timeout_error : Out(1)
@@ -82,7 +84,9 @@ class UartBridge(wiring.Component):
         index = Signal(range(8))          # reply byte being sent
 
         m.d.sync += [self.checksum_error.eq(0), self.bus_timeout_error.eq(0)]
-        m.d.comb += bus.sel.eq(0b1111)
+        # the request's own registers drive the bus: they hold still from the checksum byte
+        # until the cycle ends (a read's data is taken in its ack clock)
+        m.d.comb += [bus.sel.eq(0b1111), bus.adr.eq(addr), bus.dat_w.eq(data)]
         byte = self.rx.payload
         last = Mux(cmd == CMD_WRITE, 7, 3)
 
@@ -101,8 +105,7 @@ class UartBridge(wiring.Component):
                         m.d.sync += count.eq(0)
                         with m.If((total + byte)[:8] == 0):
                             m.d.sync += [bus.cyc.eq(1), bus.stb.eq(1),
-                                         bus.we.eq(cmd == CMD_WRITE),
-                                         bus.adr.eq(addr), bus.dat_w.eq(data)]
+                                         bus.we.eq(cmd == CMD_WRITE)]
                             m.next = "BUS"
                         with m.Else():
                             m.d.sync += [status.eq(STATUS_BAD_CHECKSUM), total.eq(0),

@@ -7,7 +7,7 @@ Master rules: ``cyc`` and ``stb`` rise together and stay high, with ``we``/``adr
 ``sel`` stable, until the cycle in which ``ack`` is high; they drop in the next cycle.
 """
 
-from amaranth import Module
+from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -18,10 +18,13 @@ __all__ = ["WishboneDecoder", "WishboneSignature"]
 
 
 class WishboneDecoder(wiring.Component):
-    """Route one master to the slave whose address window holds ``adr`` (combinational).
+    """Route one master to the slave whose address window holds ``adr``.
 
     A window of ``2**width`` words at ``base`` (a multiple of its size) gets the request with
-    the low ``width`` address bits; ``ack``/``dat_r`` come back from the selected slave only. An
+    the low ``width`` address bits (combinational); ``ack``/``dat_r`` come back from the slave
+    whose window held ``adr`` in the clock before (registered), which is the selected slave for
+    the demo's slaves: they answer one clock after the request, and a master holds ``adr``
+    until ``ack``. So the answer's path starts at registers, not at the master's address. An
     address outside every window is never acknowledged (the bridge times out).
 
     Ports
@@ -74,6 +77,8 @@ class WishboneDecoder(wiring.Component):
         for name, (base, width) in self.windows.items():
             sub = getattr(self, name)
             hit = bus.adr[width:] == base >> width if width < self.addr_width else 1
+            answers = Signal(name=f"{name}_answers")
+            m.d.sync += answers.eq(hit)
             m.d.comb += [
                 sub.cyc.eq(bus.cyc & hit),
                 sub.stb.eq(bus.stb & hit),
@@ -82,8 +87,7 @@ class WishboneDecoder(wiring.Component):
                 sub.dat_w.eq(bus.dat_w),
                 sub.sel.eq(bus.sel),
             ]
-            ack = ack | (sub.ack & hit)
-            dat_r = dat_r | (sub.dat_r & hit.replicate(32) if width < self.addr_width
-                             else sub.dat_r)
+            ack = ack | (sub.ack & answers)
+            dat_r = dat_r | (sub.dat_r & answers.replicate(32))
         m.d.comb += [bus.ack.eq(ack), bus.dat_r.eq(dat_r)]
         return m

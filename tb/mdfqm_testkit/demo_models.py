@@ -105,7 +105,7 @@ class BridgeModel:
         self.state = "RECEIVE"
         self.cmd = self.addr = self.data = self.status = 0
         self.count = self.total = self.timer = self.index = 0
-        self.cyc = self.we = self.adr = self.dat_w = 0
+        self.cyc = self.we = 0
         self.checksum_error = self.bus_timeout_error = 0
 
     def reply_byte(self) -> int:
@@ -117,8 +117,9 @@ class BridgeModel:
         replying = self.state == "REPLY"
         return {"rx_ready": int(self.state == "RECEIVE"), "tx_valid": int(replying),
                 "tx_payload": self.reply_byte() if replying else 0,
-                "cyc": self.cyc, "stb": self.cyc, "we": self.we, "adr": self.adr,
-                "dat_w": self.dat_w, "sel": 0b1111, "checksum_error": self.checksum_error,
+                "cyc": self.cyc, "stb": self.cyc, "we": self.we,
+                "adr": self.addr & self.addr_mask, "dat_w": self.data, "sel": 0b1111,
+                "checksum_error": self.checksum_error,
                 "bus_timeout_error": self.bus_timeout_error}
 
     def step(self, rx_valid=0, rx_payload=0, tx_ready=0, ack=0, dat_r=0) -> dict:
@@ -136,7 +137,6 @@ class BridgeModel:
                     self.count = 0
                     if (self.total + byte) & 0xFF == 0:
                         self.cyc, self.we = 1, int(self.cmd == self.W)
-                        self.adr, self.dat_w = self.addr & self.addr_mask, self.data
                         self.state = "BUS"
                     else:
                         self.status, self.total, self.index = self.E, 0, 0
@@ -340,6 +340,7 @@ class DemoModel:
         self.buttons = ButtonsModel(len(c.buttons), c.debounce) if c.buttons else None
         self.cycles = self.snap_cycles = 0
         self.led_active = 0
+        self.answers = (False, False)       # the windows that held the address a clock ago
         self.constants = {"ID": ID_VALUE, "INFO": c.info, "CLK_HZ": c.clk_hz}
 
     def pins(self) -> dict:
@@ -358,14 +359,18 @@ class DemoModel:
         btn = self.buttons.outputs() if self.buttons else {"state": 0, "pressed": 0}
         pressed = {a: (btn["pressed"] >> i) & 1 for i, a in enumerate(c.buttons)}
 
-        # arbiter and decoder (combinational)
+        # arbiter and decoder: the request routed by its address, the answer by the window
+        # that held the address a clock before
         bus = seq if owner else br
         adr = bus["adr"]
         hit_top = adr >> self.top_width == self.top_base >> self.top_width
         dw = self.demo_window
         hit_demo = adr >> dw.addr_width == dw.base >> dw.addr_width
-        ack = int((self.top.front.ack and hit_top) or (demo["ack"] and hit_demo))
-        dat_r = (self.top.front.dat_r if hit_top else 0) | (demo["dat_r"] if hit_demo else 0)
+        answers_top, answers_demo = self.answers
+        ack = int((self.top.front.ack and answers_top) or (demo["ack"] and answers_demo))
+        dat_r = ((self.top.front.dat_r if answers_top else 0)
+                 | (demo["dat_r"] if answers_demo else 0))
+        self.answers = (hit_top, hit_demo)
         ref_ready = self.top.ref_ready
 
         self.urx.step(rx=uart_rx, ready=br["rx_ready"])
