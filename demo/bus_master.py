@@ -39,16 +39,24 @@ class BusSequencer(wiring.Component):
     init : sequence of (addr, data)
         Writes made once after reset.
     ctrl_addr, enable_mask, clear_addr, clear_value : int
+    ctrl_width : int in [1, 32]
+        Bits of the register at ``ctrl_addr`` that an enable toggle reads and writes back (it
+        writes the bits above as 0: they must read 0), so that no flop holds a bit that is
+        always 0. ``enable_mask`` must fit in them.
     """
 
     def __init__(self, addr_width: int, init, ctrl_addr: int, enable_mask: int,
-                 clear_addr: int, clear_value: int):
+                 clear_addr: int, clear_value: int, ctrl_width: int = 32):
         self.addr_width = validate_positive(addr_width, "addr_width", maximum=30)
         top = (1 << addr_width) - 1
         for name, value in (("ctrl_addr", ctrl_addr), ("clear_addr", clear_addr)):
             validate_positive(value, name, minimum=0, maximum=top)
         for name, value in (("enable_mask", enable_mask), ("clear_value", clear_value)):
             validate_positive(value, name, minimum=0, maximum=0xFFFF_FFFF)
+        self.ctrl_width = validate_positive(ctrl_width, "ctrl_width", maximum=32)
+        if enable_mask >> ctrl_width:
+            raise ValueError(f"enable_mask {enable_mask:#x} must fit in ctrl_width = "
+                             f"{ctrl_width} bits")
         for i, entry in enumerate(init):
             if not (isinstance(entry, tuple) and len(entry) == 2):
                 raise ValueError(f"init[{i}] must be an (addr, data) tuple, not {entry!r}")
@@ -70,7 +78,7 @@ class BusSequencer(wiring.Component):
         count = len(self.init)
         index = Signal(range(count + 1))
         toggle, clear = Signal(), Signal()
-        ctrl = Signal(32)
+        ctrl = Signal(self.ctrl_width)
         init_adr = Array(Const(a, self.addr_width) for a, _ in self.init) if count else None
         init_dat = Array(Const(d, 32) for _, d in self.init) if count else None
         taken_toggle, taken_clear = Signal(), Signal()
@@ -103,7 +111,7 @@ class BusSequencer(wiring.Component):
                 m.d.comb += self.busy.eq(1)
                 with m.If(bus.ack):
                     m.d.sync += [bus.cyc.eq(0), bus.stb.eq(0),
-                                 ctrl.eq(bus.dat_r ^ self.enable_mask)]
+                                 ctrl.eq(bus.dat_r[:self.ctrl_width] ^ self.enable_mask)]
                     m.next = "WRITE_CTRL"
             with m.State("WRITE_CTRL"):
                 m.d.comb += self.busy.eq(1)

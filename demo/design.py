@@ -194,7 +194,7 @@ class DemoDesign(wiring.Component):
         m.submodules.bridge = bridge = UartBridge(16, c.bus_timeout, c.frame_timeout)
         m.submodules.sequencer = seq = BusSequencer(
             16, c.top_init, TOP_BASE + top_map.CTRL, top_map.CTRL_ENABLE,
-            TOP_BASE + top_map.CMD, top_map.CMD_FAULT_CLEAR)
+            TOP_BASE + top_map.CMD, top_map.CMD_FAULT_CLEAR, top_map.TOP["CTRL"].width)
         m.submodules.arbiter = arbiter = WishboneArbiter(16)
         dw = self.demo_window
         m.submodules.decoder = decoder = WishboneDecoder(16, {

@@ -204,6 +204,10 @@ def test_bridge_rejects_bad_parameters(kwargs, message):
      "ctrl_addr must be an integer in [0, 255], not 256"),
     (lambda: BusSequencer(8, [], 3, 1 << 32, 4, 2),
      "enable_mask must be an integer in [0, 4294967295], not 4294967296"),
+    (lambda: BusSequencer(8, [], 3, 1, 4, 2, ctrl_width=33),
+     "ctrl_width must be an integer in [1, 32], not 33"),
+    (lambda: BusSequencer(8, [], 3, 0b100, 4, 2, ctrl_width=2),
+     "enable_mask 0x4 must fit in ctrl_width = 2 bits"),
 ])
 def test_bus_blocks_reject_bad_parameters(make, message):
     with pytest.raises(ValueError) as info:
@@ -214,7 +218,7 @@ def test_bus_blocks_reject_bad_parameters(make, message):
 # ------------------------------------------------------------------ arbiter + bus sequencer
 
 SEQ_INIT = ((0x06, 240), (0x08, 9), (0x09, 0))
-SEQ_ARGS = (0x03, 0b1, 0x04, 0b10)        # CTRL, ENABLE, CMD, FAULT_CLEAR
+SEQ_ARGS = (0x03, 0b1, 0x04, 0b10, 2)     # CTRL, ENABLE, CMD, FAULT_CLEAR, the bits CTRL holds
 
 
 class BusPair(wiring.Component):
@@ -304,8 +308,9 @@ def test_sequencer_model_writes_its_init_then_serves_the_buttons():
     assert [(a, d) for _, a, d, _ in done[:3]] == list(SEQ_INIT)
     rest = done[3:]
     reads = [i for i, (we, a, _, _) in enumerate(rest) if not we and a == SEQ_ARGS[0]]
+    held = (1 << SEQ_ARGS[4]) - 1
     for i in reads:           # every read of CTRL is followed by its write with ENABLE flipped
-        assert rest[i + 1][:3] == (1, SEQ_ARGS[0], rest[i][3] ^ SEQ_ARGS[1])
+        assert rest[i + 1][:3] == (1, SEQ_ARGS[0], (rest[i][3] & held) ^ SEQ_ARGS[1])
     assert len(reads) >= 1 and sum(1 for we, a, d, _ in rest
-                                   if we and (a, d) == SEQ_ARGS[2:]) >= 1
+                                   if we and (a, d) == SEQ_ARGS[2:4]) >= 1
     assert toggles >= len(reads) and clears >= 1

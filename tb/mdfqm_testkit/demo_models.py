@@ -266,8 +266,9 @@ class SequencerModel:
     """:class:`demo.bus_master.BusSequencer`:
     ``step(ack, dat_r, enable_toggle, fault_clear)``."""
 
-    def __init__(self, init, ctrl_addr, enable_mask, clear_addr, clear_value):
+    def __init__(self, init, ctrl_addr, enable_mask, clear_addr, clear_value, ctrl_width=32):
         self.init = list(init)
+        self.ctrl_mask = (1 << ctrl_width) - 1
         self.ctrl_addr, self.enable_mask = ctrl_addr, enable_mask
         self.clear_addr, self.clear_value = clear_addr, clear_value
         self.state, self.index, self.toggle, self.clear, self.ctrl = "IDLE", 0, 0, 0, 0
@@ -299,7 +300,7 @@ class SequencerModel:
                 self.state = "WRITE"
         elif self.state == "READ_CTRL":
             if ack:
-                self.cyc, self.ctrl = 0, dat_r ^ self.enable_mask
+                self.cyc, self.ctrl = 0, (dat_r & self.ctrl_mask) ^ self.enable_mask
                 self.state = "WRITE_CTRL"
         elif self.state == "WRITE_CTRL":
             self._access(1, self.ctrl_addr, self.ctrl)
@@ -330,7 +331,8 @@ class DemoModel:
         self.urx, self.utx = UartRxModel(c.divider), UartTxModel(c.divider)
         self.bridge = BridgeModel(16, c.bus_timeout, c.frame_timeout)
         self.seq = SequencerModel(c.top_init, TOP_BASE + top_map.CTRL, top_map.CTRL_ENABLE,
-                                  TOP_BASE + top_map.CMD, top_map.CMD_FAULT_CLEAR)
+                                  TOP_BASE + top_map.CMD, top_map.CMD_FAULT_CLEAR,
+                                  top_map.TOP["CTRL"].width)
         self.arbiter = ArbiterModel()
         self.demo_window = demo_window(n, c.width, c.acc_bits)
         self.demo = RegisterBankModel(self.demo_window, c.demo_init)
