@@ -850,8 +850,8 @@ def main(argv=None) -> None:
     versions = tool_versions()
     body = table(rows, versions, date)
     area = area_table(areas, device, versions, date) if areas else ""
-    (BUILD / "perf.md").write_text(body + paths_report(rows) +
-                                   f"\nWhole run: {minutes:.1f} min with {args.jobs} jobs.\n")
+    body += f"\nThe whole run: {minutes:.1f} min with {args.jobs} jobs.\n"
+    (BUILD / "perf.md").write_text(body + paths_report(rows))
     (BUILD / "perf.json").write_text(json.dumps({"rows": rows, "area": areas}, indent=1) + "\n")
     print(body + paths_report(rows) + status(rows, date) + area)
     print(f"make perf: {minutes:.1f} min with {args.jobs} jobs")
