@@ -192,6 +192,8 @@ class PeriodBelowLatency(TopSequence):
              rdl("STATUS.PERIOD_CLAMPED"))
     claims = frozenset({PERIOD, MODULATION})
     POINT = "PERIOD below the minimum of the update"
+    #: the bins of PERIOD below the loop latency, whatever the mode
+    ZERO, BELOW_L = "0", "1..L-1"
 
     @staticmethod
     def slot_bin(minimum: int) -> str:
@@ -199,7 +201,7 @@ class PeriodBelowLatency(TopSequence):
 
     @classmethod
     def coverpoints(cls, run):
-        bins = ("0", "1..L-1", "STATUS.PERIOD_CLAMPED read 1")
+        bins = (cls.ZERO, cls.BELOW_L, "STATUS.PERIOD_CLAMPED read 1")
         if run.model.max_bits:
             bins += ("in a slot mode",
                      *(cls.slot_bin(v) for v in slot_minimums(run.model)))
@@ -210,7 +212,8 @@ class PeriodBelowLatency(TopSequence):
         minimums = slot_minimums(run.model) if run.model.max_bits else {}
         open_ = [v for v in minimums if self.slot_bin(v) in run.coverage.open_bins(self.POINT)]
         # PERIOD 0 and 1..L-1 take their turns while the slot modes' minimums are still open
-        plain = [b for b in ("0", "1..L-1") if b in run.coverage.open_bins(self.POINT)]
+        plain = [b for b in (self.ZERO, self.BELOW_L)
+                 if b in run.coverage.open_bins(self.POINT)]
         slot_turn = bool(open_) and not (plain and rng.random() < 0.5)
         if slot_turn or (not open_ and not plain and minimums and rng.random() < 0.3):
             low = rng.choice(open_ or list(minimums))
@@ -224,8 +227,8 @@ class PeriodBelowLatency(TopSequence):
             yield from run.updates(1)
             yield from run.settle(run.read(regs.STATUS))
             return
-        pick = rng.choice(plain or ["0", "1..L-1"])
-        value = 0 if pick == "0" else rng.randrange(1, run.model.latency)
+        pick = rng.choice(plain or [self.ZERO, self.BELOW_L])
+        value = 0 if pick == self.ZERO else rng.randrange(1, run.model.latency)
         yield from run.settle(run.write(regs.PERIOD, value))
         yield from run.updates(2)
         yield from run.settle(run.read(regs.STATUS), run.restore(regs.PERIOD))

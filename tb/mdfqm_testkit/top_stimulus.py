@@ -903,16 +903,17 @@ class Monitor:
             self.update_offset = (core.p_lat, m.adc_offset)
             if core.period_clamped:
                 self.hit(seq.PeriodBands.POINT, "below the minimum")
-                point = seq.PeriodBelowLatency.POINT
+                below = seq.PeriodBelowLatency
+                point = below.POINT
                 if facts["period"] == 0:
-                    self.hit(point, "0")
+                    self.hit(point, below.ZERO)
                 elif facts["period"] < m.latency:
-                    self.hit(point, "1..L-1")
+                    self.hit(point, below.BELOW_L)
                 if getattr(core, "mode_lat", 0):
                     self.hit(point, "in a slot mode")
                     low = min_period(True, core.bits_lat, m.latency, m.long_latency)
                     if m.latency <= facts["period"] < low:
-                        self.hit(point, seq.PeriodBelowLatency.slot_bin(low))
+                        self.hit(point, below.slot_bin(low))
             else:
                 self.hit(seq.PeriodBands.POINT, band(facts["period"], self.period_edges))
             mode = getattr(core, "mode_lat", 0)
