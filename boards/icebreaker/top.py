@@ -34,7 +34,7 @@ BOARD = Board(
     extra_resources=tuple(ICEBreakerPlatform.break_off_pmod),
     notes="The break-off PMOD (PMOD2) must be attached for the heartbeat LED and buttons 1-3.",
     nextpnr_opts="--seed 1",
-    # the UP5K's SB_MAC16 blocks take the reference scaler's multipliers (as in make perf)
+    # the UP5K's configuration, as make perf counts the UP5K (SB_MAC16 blocks for any multiplier)
     synth_opts="-dsp",
     demo={"max_bits": 8},
 )

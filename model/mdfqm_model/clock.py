@@ -22,11 +22,13 @@ Registers (all reset synchronously to zero)
 - ``sub``: update counter of the sampling switch; a start with ``sub == 0`` is a *sampling tick*
   (output ``sample`` = 1 in that cycle). At every start ``sub <= 0 if sub + 1 >= osr else sub + 1``,
   ``osr`` being the value latched at that start (this cycle's input, clamped to >= 1).
-- Reference stage: ``ready = not (s1 or s2 or full)`` (combinational from the registers). A beat
-  accepted in cycle ``a`` (``ref_valid and ready and not rst``) sets ``s1`` in ``a+1``, ``s2`` in
-  ``a+2`` and ``full`` with ``pending = R`` (common mode removed) in ``a+3``. At a sampling tick
-  with ``full`` the update uses ``pending`` (which becomes ``held``; ``full`` clears next cycle),
-  otherwise it uses ``held`` (zero-order hold; 0 after reset).
+- Reference stage: ``ready = not (busy or full)`` (combinational from the registers). A beat
+  accepted in cycle ``a`` (``ref_valid and ready and not rst``) keeps ``busy`` set from ``a+1``
+  for ``2N`` cycles (``busy`` counts them down), then sets ``full`` with ``pending = R`` (common
+  mode removed) in ``a + K``, ``K = contract.reference_latency(N) = 2N + 1``. In a cycle with
+  ``full`` whose next cycle is a sampling tick, ``pending`` becomes ``held`` and ``full``
+  clears (both visible in the tick's cycle, which ``fresh_reference`` marks). Every update
+  uses ``held`` (zero-order hold; 0 after reset).
 - An update starting in cycle ``s`` takes ``X`` and ``R`` of cycle ``s``; its ``h``, integrator
   ``X``, ``saturated`` flag and the one-cycle ``update`` strobe are visible in cycle ``s + L``
   (``L = contract.loop_latency(N, rule)`` by default). ``P >= L`` guarantees at most one update in
@@ -59,6 +61,7 @@ from mdfqm_spec.contract import (
     latch_mode,
     loop_latency,
     min_period,
+    reference_latency,
     resolution_latency,
     validate_max_bits,
     validate_rule,
@@ -117,11 +120,12 @@ class CoreModel:
         self.sub = 0
         self.osr_lat = 0
         self.policy_lat = 0
-        self.s1 = 0
-        self.s1_data: tuple[int, ...] = (0,) * n
-        self.s2 = 0
-        self.s2_data: tuple[int, ...] = (0,) * n
+        self.busy = 0
+        self.beat: tuple[int, ...] = (0,) * n
         self.full = 0
+        # the update starting in this cycle (a sampling tick) uses a beat handed over in the
+        # cycle before: a new sample
+        self.fresh_reference = 0
         self.pending: tuple[int, ...] = (0,) * n
         self.held: tuple[int, ...] = (0,) * n
         self.x: tuple[int, ...] = (0,) * n
@@ -134,7 +138,7 @@ class CoreModel:
 
     @property
     def ref_ready(self) -> int:
-        return int(not (self.s1 or self.s2 or self.full))
+        return int(not (self.busy or self.full))
 
     def outputs(self) -> dict:
         """The outputs visible in the current cycle (a function of the registers only)."""
@@ -206,16 +210,12 @@ class CoreModel:
         # ---- reference stage (next-state values)
         accept = ref_valid and self.ref_ready
         start = self.phase == 0
-        tick = start and self.sub == 0
-        use_pending = tick and self.full
-        r_for_update = self.pending if use_pending else self.held
-        n_full, n_pending, n_held = self.full, self.pending, self.held
-        if use_pending:
-            n_held, n_full = self.pending, 0
-        if self.s2:
-            n_full, n_pending = 1, tuple(remove_common_mode(self.s2_data, self.phases))
-        n_s2, n_s2_data = self.s1, (self.s1_data if self.s1 else self.s2_data)
-        n_s1, n_s1_data = int(accept), (ref if accept else self.s1_data)
+        r_for_update = self.held
+        n_full, n_pending = self.full, self.pending
+        if self.busy == 1:
+            n_full, n_pending = 1, tuple(remove_common_mode(self.beat, self.phases))
+        n_busy = reference_latency(self.phases) - 1 if accept else max(self.busy - 1, 0)
+        n_beat = ref if accept else self.beat
 
         # ---- sequencer and sampling switch
         if start:
@@ -233,9 +233,12 @@ class CoreModel:
             restart = sync_in and self.phase + 1 >= self._restart_latency()
             self.phase = 0 if restart or self.phase + 1 >= self.p_lat else self.phase + 1
 
-        self.s1, self.s1_data = n_s1, n_s1_data
-        self.s2, self.s2_data = n_s2, n_s2_data
-        self.full, self.pending, self.held = n_full, n_pending, n_held
+        # the hand-over, in the cycle before a sampling tick (phase and sub are the next cycle's)
+        self.fresh_reference = int(bool(self.full and self.phase == 0 and self.sub == 0))
+        if self.fresh_reference:
+            n_full, self.held = 0, self.pending
+        self.busy, self.beat = n_busy, n_beat
+        self.full, self.pending = n_full, n_pending
 
         # ---- the output between presentations (slot layouts), then the loop: commit the update
         # in flight when its result becomes visible

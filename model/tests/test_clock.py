@@ -5,7 +5,7 @@ import pytest
 
 from mdfqm_model.clock import CoreModel
 from mdfqm_model.update import modulate
-from mdfqm_spec.contract import FEWEST_TRANSITIONS, Contract, loop_latency
+from mdfqm_spec.contract import FEWEST_TRANSITIONS, Contract, loop_latency, reference_latency
 
 OUTPUTS6 = ("ref_ready", "sample", "h", "update", "saturated", "period_clamped")
 
@@ -121,6 +121,7 @@ def test_ready_handshake_timing():
     m = CoreModel(3, 16)
     p = 10
     osr = 3
+    k = reference_latency(3)
     ready, accepted = [], []
     for cyc in range(200):
         o = m.step(ref_valid=1, ref=(cyc, -cyc, 0), period=p, osr=osr)
@@ -128,41 +129,44 @@ def test_ready_handshake_timing():
         if o["ref_ready"]:
             accepted.append(cyc)
     ticks = [t for t in range(200) if t % (p * osr) == 0]
-    # first beat accepted at 0; each following one in the cycle after the tick that consumed the
-    # pending beat (the ticks at 30, 60, ... all find 'full' since a + 3 <= tick)
-    assert accepted == [0] + [t + 1 for t in ticks[1:]]
+    # first beat accepted at 0; each following one in the cycle of the tick whose previous cycle
+    # handed the pending beat over (the ticks at 30, 60, ... all follow a + K)
+    assert accepted == [0, *ticks[1:]]
     for a in accepted:
         assert ready[a] == 1
-        # low in a+1 (s1), a+2 (s2), a+3 .. the consuming tick (full)
-        nxt = [t for t in ticks if t > a + 2]
+        # low from a + 1 (busy, then full) until the consuming tick, the first at a + K + 1 or later
+        nxt = [t for t in ticks if t >= a + k + 1]
         end = nxt[0] if nxt else 200
-        assert all(r == 0 for r in ready[a + 1 : min(end + 1, 200)])
+        assert all(r == 0 for r in ready[a + 1 : end])
+        assert end == 200 or ready[end] == 1
 
 
-def test_tick_in_flight_uses_held_then_pending_at_a_plus_3():
+def test_a_beat_is_used_by_the_first_tick_one_cycle_after_it_is_pending():
     c = Contract(3, 16)
     f = c.full
     L = loop_latency(3)
+    k = reference_latency(3)
     p = L
-    # beat accepted at cycle a = p - 2: at the tick at cycle p it is in s2 (not full):
-    # that update uses held (0). The tick at 2p sees full and uses it.
-    m = CoreModel(3, 16)
+    assert p > k, "the accept cycles below must be inside the first update"
     ref = (f, 0, 0)
-    valid = np.zeros(5 * p, dtype=int)
-    valid[p - 2] = 1
-    refs = np.zeros((5 * p, 3), dtype=int)
-    refs[p - 2] = ref
-    out = m.simulate({"ref_valid": valid, "ref": refs, "period": p})
+
+    def run(accepted_at, **kwargs):
+        m = CoreModel(3, 16)
+        valid = np.zeros(5 * p, dtype=int)
+        valid[accepted_at] = 1
+        refs = np.zeros((5 * p, 3), dtype=int)
+        refs[accepted_at] = ref
+        return m.simulate({"ref_valid": valid, "ref": refs, "period": p}, **kwargs)
+
+    # accepted at a = p - K: pending from cycle p, the tick itself: that update uses held (0),
+    # the tick at 2p uses the beat
+    out = run(p - k, trace_state=True)
+    assert out["full"][p - 1] == 0 and out["full"][p] == 1
     assert out["h"][p + L] == 0 and out["h"][2 * p + L] == 0b001
-    # accepted at a = p - 3: full is visible at cycle p, exactly the tick -> used there
-    m.reset()
-    valid = np.zeros(5 * p, dtype=int)
-    valid[p - 3] = 1
-    refs = np.zeros((5 * p, 3), dtype=int)
-    refs[p - 3] = ref
-    out = m.simulate({"ref_valid": valid, "ref": refs, "period": p}, trace_state=True)
-    assert out["full"][p] == 1 and out["full"][p + 1] == 0
-    assert out["ref_ready"][p] == 0 and out["ref_ready"][p + 1] == 1
+    # accepted at a = p - K - 1: pending in cycle p - 1, the cycle before the tick: handed over
+    out = run(p - k - 1, trace_state=True)
+    assert out["full"][p - 1] == 1 and out["full"][p] == 0
+    assert out["ref_ready"][p - 1] == 0 and out["ref_ready"][p] == 1
     assert out["h"][p + L] == 0b001
 
 
@@ -210,7 +214,9 @@ def test_clock_matches_per_update_model(phases, rule, policy, osr, rng):
     k = 25
     beats = rng.integers(-c.full, c.full, size=(k, phases))
     m = CoreModel(phases, 14, rule)
-    p = m.latency + int(rng.integers(0, 4))
+    # a beat taken at a tick is pending in time for the next one when P * osr >= K + 1
+    shortest = max(m.latency, -(-(reference_latency(phases) + 1) // osr))
+    p = shortest + int(rng.integers(0, 4))
     q = 0
     hs, sats = [], []
     for _ in range((k + 2) * osr * p + m.latency):

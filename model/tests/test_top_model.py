@@ -130,7 +130,7 @@ def test_register_reference_is_committed_and_wins_over_the_port():
     f = m.contract.full
     bus = Master(m, ref_valid=1, ref=[1, 2, 3])
     bus.tick()                                   # the port's beat is accepted at once
-    assert m.core.s1 == 1 and m.core.s1_data == (1, 2, 3)
+    assert m.core.busy and m.core.beat == (1, 2, 3)
     beat = (f // 2, -f // 4, -f // 4)
     for i, v in enumerate(beat):
         bus.write(regs.REF_BASE + i, v & 0xFFFFFFFF)
@@ -143,9 +143,9 @@ def test_register_reference_is_committed_and_wins_over_the_port():
         port_ready = m.ref_ready
         bus.tick()
         if pending_ready:
-            taken.append(("register", m.core.s1_data))
+            taken.append(("register", m.core.beat))
         elif port_ready:
-            taken.append(("port", m.core.s1_data))
+            taken.append(("port", m.core.beat))
     assert taken[0] == ("register", beat) and m.ref_pending == 0
     assert taken[1:] and set(taken[1:]) == {("port", (1, 2, 3))}   # port resumes
 

@@ -148,7 +148,7 @@ def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamesp
         sequencer.osr.eq(component.osr),
         sequencer.zero_policy.eq(component.zero_policy),
         sequencer.sync_in.eq(component.sync_in),
-        reference.tick.eq(sequencer.tick),
+        reference.tick_next.eq(sequencer.tick_next),
         integrator.i_start.eq(sequencer.start),
         integrator.i_r.eq(reference.r),
         sort1.i_values.eq(integrator.o_t),

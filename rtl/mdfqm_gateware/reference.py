@@ -1,4 +1,8 @@
-"""Reference stage: the sampling switch (zero-order hold) and exact common-mode removal."""
+"""Reference stage: exact common-mode removal, one phase per clock, and the sampling switch
+(zero-order hold)."""
+
+import functools
+import operator
 
 from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import data, stream, wiring
@@ -12,21 +16,27 @@ __all__ = ["ReferenceStage"]
 class ReferenceStage(wiring.Component):
     """Accept phase references, remove their common mode, hold them between sampling ticks.
 
-    Contract (``docs/contract.md``, "Reference stage"): a beat accepted in cycle ``a``
-    becomes ``pending`` (``R_i = N c_i - sum_j c_j``, exact) visible from cycle ``a + 3``; one beat
-    is in flight at a time, so ``ready`` is low from acceptance until a sampling tick consumes
-    ``pending``. A tick without a new beat keeps the held reference (zero-order hold).
+    Contract (``docs/contract.md``, "Reference stage"): a beat accepted in cycle ``a`` becomes
+    ``pending`` (``R_i = N c_i - sum_j c_j``, exact) in cycle
+    ``a + contract.reference_latency(N)`` (``a + 2N + 1``): one adder sums the beat over ``N``
+    clocks, then one subtractor forms ``R_i`` over ``N`` more, a phase per clock. In a cycle with
+    ``tick_next`` and a pending beat, the beat becomes the held reference (``r``, from the next
+    cycle on: the tick's) and the stage is free again. One beat is in flight at a time:
+    ``ready`` is low from the cycle after an acceptance through the hand-over's cycle (high
+    again in the tick's). A tick without a pending beat keeps the held reference (zero-order
+    hold).
 
     Ports
     -----
     ref : In(stream.Signature(ArrayLayout(signed(width), phases)))
         Phase reference codes, ``FULL = 2**(width-2)`` codes per Vdc. ``ref.ready`` is
         combinational from registers only.
-    tick : In(1)
-        Sampling tick (an update start that samples); may be high in any cycle.
+    tick_next : In(1)
+        The next cycle is a sampling tick (an update start that samples); may be high in any
+        cycle.
     r : Out(ArrayLayout(signed(r_width), phases))
-        Combinational: the reference an update starting this cycle uses —
-        ``pending`` if ``tick`` and a beat is pending, else the held one.
+        The held reference, registered: what an update starting in this cycle uses (0 after
+        reset).
     """
 
     def __init__(self, phases: int, width: int):
@@ -35,7 +45,7 @@ class ReferenceStage(wiring.Component):
         r_shape = signed(self.contract.r_width)
         super().__init__({
             "ref": In(stream.Signature(data.ArrayLayout(signed(width), phases))),
-            "tick": In(1),
+            "tick_next": In(1),
             "r": Out(data.ArrayLayout(r_shape, phases)),
         })
 
@@ -44,26 +54,36 @@ class ReferenceStage(wiring.Component):
         n, c = self.phases, self.contract
         r_shape = signed(c.r_width)
         raw = Signal(data.ArrayLayout(signed(self.width), n))
-        scaled = Signal(data.ArrayLayout(r_shape, n))
         total = Signal(r_shape)
         pending = Signal(data.ArrayLayout(r_shape, n))
-        held = Signal(data.ArrayLayout(r_shape, n))
-        in_raw, in_scaled, full = Signal(), Signal(), Signal()
+        # busy: a beat is being worked on; forming: its second half (R_i), else its sum;
+        # which: the phase of this clock, one-hot (a ring: no counter, no decoder)
+        busy, forming, full = Signal(), Signal(), Signal()
+        which = Signal(n)
+        phase_code = Signal(signed(self.width))
 
-        m.d.comb += self.ref.ready.eq(~(in_raw | in_scaled | full))
-        m.d.sync += in_raw.eq(self.ref.valid & self.ref.ready)
-        with m.If(self.ref.valid & self.ref.ready):
-            m.d.sync += raw.eq(self.ref.payload)
-        m.d.sync += in_scaled.eq(in_raw)
-        with m.If(in_raw):
-            m.d.sync += total.eq(sum(raw[i] for i in range(n)))
-            m.d.sync += [scaled[i].eq(raw[i] * n) for i in range(n)]
-        with m.If(in_scaled):
-            m.d.sync += [pending[i].eq(scaled[i] - total) for i in range(n)]
-            m.d.sync += full.eq(1)
+        accept = self.ref.valid & self.ref.ready
+        m.d.comb += self.ref.ready.eq(~(busy | full))
+        with m.If(accept):
+            m.d.sync += [raw.eq(self.ref.payload), busy.eq(1), forming.eq(0), which.eq(1),
+                         total.eq(0)]
+        m.d.comb += phase_code.eq(functools.reduce(
+            operator.or_, (Mux(which[i], raw[i], 0) for i in range(n))))
+        with m.If(busy):
+            m.d.sync += which.eq(which.rotate_left(1))
+            with m.If(which[n - 1]):
+                m.d.sync += forming.eq(1)
+            with m.If(~forming):
+                m.d.sync += total.eq(total + phase_code)
+            with m.Else():
+                # N c_i as shifted copies of c_i, one per set bit of N: no multiplier
+                scaled = sum(phase_code << k for k in range(n.bit_length())
+                             if (n >> k) & 1)
+                m.d.sync += [pending[i].eq(pending[i + 1]) for i in range(n - 1)]
+                m.d.sync += pending[n - 1].eq(scaled - total)
+                with m.If(which[n - 1]):
+                    m.d.sync += [busy.eq(0), full.eq(1)]
 
-        take = self.tick & full
-        with m.If(take):
-            m.d.sync += [held.eq(pending), full.eq(0)]
-        m.d.comb += self.r.eq(Mux(take, pending, held))
+        with m.If(full & self.tick_next):
+            m.d.sync += [self.r.eq(pending), full.eq(0)]
         return m

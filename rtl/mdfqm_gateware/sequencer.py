@@ -33,6 +33,9 @@ class UpdateSequencer(wiring.Component):
         High in the first cycle of each update (combinational from registers).
     tick : Out(1)
         High at an update start that is also a sampling tick (combinational from registers).
+    tick_next : Out(1)
+        The next cycle is a sampling tick (combinational: ``tick``'s next value; undefined in
+        a reset cycle).
     policy : Out(1)
         ``zero_policy`` as latched at the last update start (registered).
     period_clamped : Out(1)
@@ -93,6 +96,7 @@ class UpdateSequencer(wiring.Component):
             "sync_in": In(1),
             "start": Out(1),
             "tick": Out(1),
+            "tick_next": Out(1),
             "policy": Out(1),
             "period_clamped": Out(1),
             "elapsed": Out(period_width),
@@ -139,15 +143,16 @@ class UpdateSequencer(wiring.Component):
                 left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2),
                             left - 1)),
                 start_q.eq(ends),
-                tick_q.eq(ends & (sub_p1 == 1)),     # it only moves in start cycles
+                tick_q.eq(self.tick_next),
             ]
         else:
             clamped, ends = self._generator_sequence(m, phase)
             m.d.sync += [
                 phase.eq(Mux(self.start, 1, phase + 1)),
                 start_q.eq(ends),
-                tick_q.eq(ends & (sub_p1 == 1)),
+                tick_q.eq(self.tick_next),
             ]
+        m.d.comb += self.tick_next.eq(ends & (sub_p1 == 1))     # sub_p1 moves in starts only
         osr_now = Mux(self.osr == 0, 1, self.osr)
         with m.If(self.start):
             m.d.sync += [

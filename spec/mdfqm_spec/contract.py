@@ -20,7 +20,7 @@ __all__ = [
     "LARGEST_DUTY_MAX_PHASES", "MAX_BITS_LIMIT", "MAX_WIDTH", "MIN_PHASES", "MODES", "MODE_WIDTH",
     "OSR_WIDTH", "PERIOD_WIDTH", "RULES", "TIME_WIDTH", "ZERO_POLICIES", "Contract",
     "argmax_stages", "ceil_log2", "latch_mode", "loop_latency", "min_period", "min_width",
-    "modes_built_in", "resolution_latency", "signed_bits", "sorting_network",
+    "modes_built_in", "reference_latency", "resolution_latency", "signed_bits", "sorting_network",
     "validate_dead_min", "validate_max_bits", "validate_rule", "validate_time_width",
     "validate_top_max_bits", "validate_zero_policy",
 ]
@@ -151,6 +151,16 @@ def loop_latency(phases: int, rule: str = "largest_duty") -> int:
     """
     validate_rule(rule, phases)
     return 1 + len(sorting_network(phases)) + 1 + argmax_stages(phases) + 1 + 1
+
+
+def reference_latency(phases: int) -> int:
+    """Clocks from a reference beat's acceptance (cycle ``a``) to its common-mode-free ``R``
+    being pending (``full`` from cycle ``a + reference_latency``): one clock to register the
+    beat, then ``N`` clocks summing it and ``N`` clocks forming ``R_i = N c_i - sum c``, one
+    phase per clock. A sampling tick uses it when it is pending in the cycle before the tick."""
+    if not isinstance(phases, int) or phases < MIN_PHASES:
+        raise ValueError(f"phases must be an integer >= {MIN_PHASES}, not {phases!r}")
+    return 1 + 2 * phases
 
 
 #: generator modes, index = the ``mode`` input's code (docs/contract.md, "b-bit pulse-width

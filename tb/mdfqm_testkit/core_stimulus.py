@@ -114,9 +114,9 @@ def x_at_use(model, codes, settings, limit=4096):
     probe = copy.deepcopy(model)
     probe.step(ref_valid=1, ref=codes, **settings)
     for _ in range(limit):
-        if probe.phase == 0 and probe.sub == 0 and probe.full:     # the tick that takes it
-            return probe.x
         probe.step(**settings)
+        if probe.fresh_reference:           # the tick that takes it
+            return probe.x
     return None
 
 

@@ -71,131 +71,115 @@ def reading(key: str) -> Reading | None:
 
 # -- sample: written by tools/mutate/sample.py (--write), not by hand; the comments are the
 # -- source text each key names
-# -- origin: drawn with seed 7 by the line-keyed sample tool before the keys named source text
-# --   (the Wishbone top's two-events row chosen by hand among the mutants it killed), then its
-# --   keys translated cell for cell into source-text keys on the same netlists; the generator's
-# --   datapath mutant chosen again by hand on 2026-11-27 among those its vector runs killed in
-# --   the campaign (its line, the quantiser's V - 2 NF, was removed)
+# -- origin: drawn by `python -m tools.mutate.sample --write --seed 7`
 SAMPLE: tuple[Sampled, ...] = (
     # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#0 B[7] const1",
+            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#1 B[12] inv",
             "datapath"),
-    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+    # m.d.comb += high.eq(self.o_t[i][shift:].as_signed() - self.i_units[i])
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 B[4] const1",
+            "rtl/mdfqm_gateware/integrator.py@24cb33a0 integrator $sub#1 B[0] inv",
             "datapath"),
-    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+    # m.d.comb += fits.eq(Cat(*fits_each).all())
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 A[22] const0",
+            "rtl/mdfqm_gateware/integrator.py@2df87e8d integrator $reduce_and#0 A[0] const1",
             "row: reference beyond the linear range"),
-    # m.d.sync += total.eq(sum((raw[i] for i in range(n))))
+    # m.d.sync += total.eq(total + phase_code)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@0cda0ddb reference $add#2 Y[11] inv",
+            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 B[6] inv",
             "row: common-mode offset"),
-    # m.d.sync += [scaled[i].eq(raw[i] * n) for i in range(n)]
+    # m.d.sync += pending[n - 1].eq(scaled - total)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@7c2b223b reference $mul#0 A[6] inv",
+            "rtl/mdfqm_gateware/reference.py@7049ffb4 reference $sub#0 B[10] cnot0/4",
             "row: extreme codes"),
     # next_values[a].eq(Mux(a_first, values[a], values[b]))
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@5e605890 sort1 $mux#1 B[4] const0",
+            "rtl/mdfqm_gateware/sort.py@5e605890 sort1 $mux#1 Y[9] inv",
             "row: equal references (ties)"),
     # clamped = self.period < self.latency
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[7] inv",
+            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[7] const1",
             "row: update period below the loop latency"),
     # osr_now = Mux(self.osr == 0, 1, self.osr)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $logic_not#0 A[6] const0",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $logic_not#0 Y[0] inv",
             "row: OSR 0"),
-    # restart = self.sync_in & (phase >= self.latency - 1)
-    Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@c6b6cfb4 sequencer $ge#0 A[7] inv",
-            "row: `sync_in` at any time"),
-    # m.d.comb += self.ref.ready.eq(~(in_raw | in_scaled | full))
-    Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@23503a91 reference $not#0 Y[0] inv",
-            "row: a reference beat while one is pending"),
-    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
-    Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 Y[24] const1",
-            "datapath"),
     # 'policy': Out(1)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 S[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 Y[0] const1",
             "row: runtime changes of period / OSR / zero policy / mode"),
+    # restart = self.sync_in & (phase >= self.latency - 1)
+    Sampled("core",
+            "rtl/mdfqm_gateware/sequencer.py@c6b6cfb4 sequencer $ge#0 A[6] inv",
+            "row: `sync_in` at any time"),
     # start_q, tick_q = (Signal(init=1), Signal(init=1))
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@ccc5115c sequencer $mux#0 S[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@ccc5115c sequencer $mux#1 S[0] inv",
             "row: reset in the middle of an update"),
-    # ofs['o2'].eq(self.i_min * 2 + k_tab[2])
+    # m.d.comb += self.ref.ready.eq(~(busy | full))
+    Sampled("core",
+            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $or#0 A[0] const1",
+            "row: a reference beat while one is pending"),
+    # after.eq(after + delta)
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $mul#0 B[1] const0",
+            "rtl/mdfqm_gateware/resolution.py@6c12f5e2 layout $add#0 A[7] const1",
             "datapath"),
-    # m.d.sync += count.eq(count - 1)
+    # hi.eq(lo + on)
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@e3955bfc layout $sub#0 A[4] const1",
+            "rtl/mdfqm_gateware/resolution.py@44122aeb quantiser $add#1 A[2] const0",
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[3] cnot1/2",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 A[3] inv",
             "row: illegal generator `mode`"),
-    # ofs['o2'].eq(self.i_min * 2 + k_tab[2])
-    Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $add#0 Y[9] inv",
-            "datapath"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
-            "row: any pair of pin polarities"),
+            "pin polarity"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
             "pin polarity"),
     # 'fault': Out(1)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const0",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
             "two events in one clock"),
     # 'fault': Out(1)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const1",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const1",
             "two events in one clock"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
+            "row: any pair of pin polarities"),
     # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8122c414 leg2 $mux#0 Y[8] cnot0/3",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg1 $lt#0 A[3] inv",
             "row: dead time below the elaboration floor"),
     # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $gt#0 A[11] inv",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg0 $gt#0 A[1] const1",
             "row: a commanded pulse shorter than the minimum pulse"),
+    # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 B[2] const0",
+            "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # m.d.comb += fault_active.eq(self.fault_input | self.fault)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 Y[0] inv",
             "row: fault input chatter, fault during a dead time"),
-    # 'upper': Out(phases)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
-            "pin polarity"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
-            "two events in one clock"),
-    # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 Y[1] cnot1/0",
-            "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@f9ddc422 top $mux#0 S[0] const1",
+            "rtl/mdfqm_gateware/driver.py@f9ddc422 top $mux#0 B[0] const1",
             "row: enable toggled in the middle of an update"),
     # kill = ~(fault_active | self.stop) | self.all_off | rise_f & (f == 0) | rise_w & (w =...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@a08180b1 top $or#2 B[0] const0",
+            "rtl/mdfqm_gateware/driver.py@a08180b1 top $and#0 A[0] inv",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
-    # 'upper': Out(1)
+    # 'lower': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg0 $dff#0 Q[0] inv",
             "pin polarity"),
     # 'lower': Out(1)
     Sampled("top_wb",
@@ -203,47 +187,47 @@ SAMPLE: tuple[Sampled, ...] = (
             "pin polarity"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 B[0] const1",
-            "row: Wishbone: `stb` without `cyc`"),
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 B[0] const1",
             "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 B[2] const1",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[23] cnot0/31",
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[0] inv",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[0] const1",
             "two events in one clock"),
-    # status_next = irq_status & ~cleared | irq_events
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 A[1] cnot0/4",
-            "row: `IRQ_STATUS` written with any value"),
-    # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $lt#0 A[11] inv",
-            "row: any value to any register"),
-    # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@c07b0f4d top $ge#0 B[13] inv",
-            "row: the controller stops sending references"),
-    # 'upper': Out(1)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg0 $dff#0 Q[0] inv",
-            "pin polarity"),
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
+            "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#2 Y[1] const0",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[1] const0",
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[3] const0",
             "row: `MODULATION` written with a mode not built in"),
+    # status_next = irq_status & ~cleared | irq_events
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[0] const1",
+            "row: `IRQ_STATUS` written with any value"),
+    # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[13] inv",
+            "row: any value to any register"),
+    # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@c07b0f4d top $and#0 Y[0] const1",
+            "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#0 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 Y[0] const1",
             "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
@@ -251,15 +235,15 @@ SAMPLE: tuple[Sampled, ...] = (
             "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 B[3] const1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[2] inv",
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[4] const1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 Y[0] const1",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[6] inv",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 B[2] const0",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample

@@ -96,13 +96,14 @@ ROWS = {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"total_next\.eq\(total \+ sum", ("const0",),
                    ("Y[1]",))},
     "reference beyond the linear range": {
-        "core": ("rtl/mdfqm_gateware/integrator.py", r"o_x\.eq\(Mux\(self\.o_saturated", ANY,
+        "core": ("rtl/mdfqm_gateware/integrator.py", r"fits\.eq\(Cat\(\*fits_each\)", ANY,
                  None)},
     "common-mode offset": {
-        "core": ("rtl/mdfqm_gateware/reference.py", r"total\.eq\(sum\(", ANY, None)},
-    "extreme codes": {
-        "core": ("rtl/mdfqm_gateware/reference.py", r"scaled\[i\]\.eq\(raw\[i\] \* n\)", ANY,
+        "core": ("rtl/mdfqm_gateware/reference.py", r"total\.eq\(total \+ phase_code\)", ANY,
                  None)},
+    "extreme codes": {
+        "core": ("rtl/mdfqm_gateware/reference.py", r"pending\[n - 1\]\.eq\(scaled - total\)",
+                 ANY, None)},
     "equal references (ties)": {
         "core": ("rtl/mdfqm_gateware/sort.py", r"next_(values|index)\[a\]\.eq\(Mux\(a_first",
                  ANY, None)},
@@ -239,11 +240,14 @@ def draw(seed: int) -> list[Sampled]:
         binary, prepared, _ = build(block, every, BUILD / "draw" / f"{block}-cand")
         killed = {key for k, key in enumerate(every, 1)
                   if run_vectors(binary, prepared, k)["killed"]}
+        chosen: set[str] = set()         # a mutant stands for one class or row only
         for fault_class, keys, count in classes:
             hits = sorted(k for k in keys if k in killed)
             print(f"# {block} / {fault_class}: {len(hits)} of {len(keys)} killed")
-            sample += [Sampled(block, key, fault_class)
-                       for key in rng.sample(hits, min(count, len(hits)))]
+            picks = rng.sample([k for k in hits if k not in chosen],
+                               min(count, len(set(hits) - chosen)))
+            chosen.update(picks)
+            sample += [Sampled(block, key, fault_class) for key in picks]
     return sample
 
 
