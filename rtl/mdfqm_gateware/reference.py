@@ -19,7 +19,8 @@ class ReferenceStage(wiring.Component):
     Contract (``docs/contract.md``, "Reference stage"): a beat accepted in cycle ``a`` becomes
     ``pending`` (``R_i = N c_i - sum_j c_j``, exact) in cycle
     ``a + contract.reference_latency(N)`` (``a + 2N + 1``): one adder sums the beat over ``N``
-    clocks, then one subtractor forms ``R_i`` over ``N`` more, a phase per clock. In a cycle with
+    clocks, then one subtractor forms ``R_i`` over ``N`` more, a phase per clock (``N c_i`` a
+    register ahead, so that each path holds one carry chain). In a cycle with
     ``tick_next`` and a pending beat, the beat becomes the held reference (``r``, from the next
     cycle on: the tick's) and the stage is free again. One beat is in flight at a time:
     ``ready`` is low from the cycle after an acceptance through the hand-over's cycle (high
@@ -57,31 +58,34 @@ class ReferenceStage(wiring.Component):
         total = Signal(r_shape)
         pending = Signal(data.ArrayLayout(r_shape, n))
         # busy: a beat is being worked on; forming: its second half (R_i), else its sum;
-        # which: the phase of this clock, one-hot (a ring: no counter, no decoder)
+        # which: the phase read in this clock, one-hot (a ring: no counter, no decoder). The
+        # sum reads the phases from 1 on and phase 0 last, so that the clock ending it also
+        # loads N c_0 into scaled; each clock of the second half then forms R_i from scaled
+        # and loads N c_(i+1).
         busy, forming, full = Signal(), Signal(), Signal()
         which = Signal(n)
         phase_code = Signal(signed(self.width))
+        scaled = Signal(r_shape)
 
         accept = self.ref.valid & self.ref.ready
         m.d.comb += self.ref.ready.eq(~(busy | full))
         with m.If(accept):
-            m.d.sync += [raw.eq(self.ref.payload), busy.eq(1), forming.eq(0), which.eq(1),
+            m.d.sync += [raw.eq(self.ref.payload), busy.eq(1), forming.eq(0), which.eq(0b10),
                          total.eq(0)]
         m.d.comb += phase_code.eq(functools.reduce(
             operator.or_, (Mux(which[i], raw[i], 0) for i in range(n))))
+        # N c as shifted copies of c, one per set bit of N: no multiplier
+        m.d.sync += scaled.eq(sum(phase_code << k for k in range(n.bit_length()) if (n >> k) & 1))
         with m.If(busy):
             m.d.sync += which.eq(which.rotate_left(1))
-            with m.If(which[n - 1]):
+            with m.If(which[0]):
                 m.d.sync += forming.eq(1)
             with m.If(~forming):
                 m.d.sync += total.eq(total + phase_code)
             with m.Else():
-                # N c_i as shifted copies of c_i, one per set bit of N: no multiplier
-                scaled = sum(phase_code << k for k in range(n.bit_length())
-                             if (n >> k) & 1)
                 m.d.sync += [pending[i].eq(pending[i + 1]) for i in range(n - 1)]
                 m.d.sync += pending[n - 1].eq(scaled - total)
-                with m.If(which[n - 1]):
+                with m.If(which[0]):
                     m.d.sync += [busy.eq(0), full.eq(1)]
 
         with m.If(full & self.tick_next):

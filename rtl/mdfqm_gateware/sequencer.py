@@ -7,6 +7,8 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import BITS_WIDTH, MODE_WIDTH, MODES, min_period, signed_bits
 from mdfqm_spec.validate import validate_positive
 
+from .arith import at_least
+
 __all__ = ["UpdateSequencer"]
 
 
@@ -123,46 +125,54 @@ class UpdateSequencer(wiring.Component):
         m = Module()
         # phase counts up from the start (for sync_in: a compare with a constant); left counts
         # the clocks to the end of the update down (the end is left == 0): neither needs an
-        # adder in front of a comparator. start and tick are registers computed one clock ahead.
+        # adder in front of a comparator. start and tick are registers computed one clock ahead;
+        # so are the flags they are made of (late: phase >= the latency minus one, where
+        # sync_in restarts; at_end: left == 0; sub_one: the next start samples), so that
+        # tick_next, the reference stage's hand-over enable, is a LUT or two from registers.
         phase = Signal(self.period_width)
         left = Signal(self.period_width)
         # updates since the last sampling start, plus one (the contract's sub + 1): kept
         # incremented so that the wrap test is one compare, with no adder in front of it
         sub_p1 = Signal(self.osr_width, init=1)
-        start_q, tick_q = Signal(init=1), Signal(init=1)
+        start_q, tick_q, sub_one = Signal(init=1), Signal(init=1), Signal(init=1)
+        late, at_end = Signal(), Signal()
         m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q),
                      self.elapsed.eq(Mux(start_q, 0, phase))]
 
         if self.long_latency is None:
             clamped = self.period < self.latency
-            restart = self.sync_in & (phase >= self.latency - 1)
             # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
-            ends = ~self.start & (restart | (left == 0))
+            ends = ~self.start & ((self.sync_in & late) | at_end)
             m.d.sync += [
                 phase.eq(Mux(self.start, 1, phase + 1)),
+                late.eq(Mux(self.start, int(self.latency <= 2),
+                            at_least(phase, self.latency - 2))),
                 left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2),
                             left - 1)),
+                at_end.eq(Mux(self.start, Mux(clamped, int(self.latency == 2), self.period == 2),
+                              left == 1)),
                 start_q.eq(ends),
                 tick_q.eq(self.tick_next),
             ]
         else:
-            clamped, ends = self._generator_sequence(m, phase)
+            clamped, ends = self._generator_sequence(m, phase, late)
             m.d.sync += [
                 phase.eq(Mux(self.start, 1, phase + 1)),
                 start_q.eq(ends),
                 tick_q.eq(self.tick_next),
             ]
-        m.d.comb += self.tick_next.eq(ends & (sub_p1 == 1))     # sub_p1 moves in starts only
+        m.d.comb += self.tick_next.eq(ends & sub_one)
         osr_now = Mux(self.osr == 0, 1, self.osr)
         with m.If(self.start):
             m.d.sync += [
                 sub_p1.eq(Mux(sub_p1 >= osr_now, 1, sub_p1 + 1)),
+                sub_one.eq(sub_p1 >= osr_now),
                 self.period_clamped.eq(clamped),
                 self.policy.eq(self.zero_policy),
             ]
         return m
 
-    def _generator_sequence(self, m, phase):
+    def _generator_sequence(self, m, phase, late):
         """Mode/bits clamp, short/long decision, minimum period and end of the update (the
         generator): returns (period clamped at this start, the update ends this cycle).
 
@@ -192,10 +202,12 @@ class UpdateSequencer(wiring.Component):
         # negative
         count = Signal(signed(width + 1))
         floor = Signal(signed(signed_bits(-1, max(table) - 3)))
-        restart = self.sync_in & Mux(self.long, phase >= long_lat - 1, phase >= short - 1)
         # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
-        ends = ~self.start & (restart | (count[-1] & floor[-1]))
+        ends = ~self.start & ((self.sync_in & late) | (count[-1] & floor[-1]))
         m.d.sync += [
+            late.eq(Mux(self.start, Mux(long_now, int(long_lat <= 2), int(short <= 2)),
+                        Mux(self.long, at_least(phase, long_lat - 2),
+                            at_least(phase, short - 2)))),
             count.eq(Mux(self.start, self.period - 3, count - 1)),
             floor.eq(Mux(self.start,
                          Mux(long_now, Array(Const(v - 3, floor.shape()) for v in table)[b_now],

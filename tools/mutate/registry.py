@@ -73,77 +73,77 @@ def reading(key: str) -> Reading | None:
 # -- source text each key names
 # -- origin: drawn by `python -m tools.mutate.sample --write --seed 7`
 SAMPLE: tuple[Sampled, ...] = (
-    # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
-    Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#1 B[12] inv",
-            "datapath"),
     # m.d.comb += high.eq(self.o_t[i][shift:].as_signed() - self.i_units[i])
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@24cb33a0 integrator $sub#1 B[0] inv",
+            "rtl/mdfqm_gateware/integrator.py@24cb33a0 integrator $sub#2 Y[3] const1",
             "datapath"),
-    # m.d.comb += fits.eq(Cat(*fits_each).all())
+    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@2df87e8d integrator $reduce_and#0 A[0] const1",
+            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 B[51] const1",
+            "datapath"),
+    # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+    Sampled("core",
+            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 B[39] inv",
             "row: reference beyond the linear range"),
     # m.d.sync += total.eq(total + phase_code)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 B[6] inv",
+            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 B[12] const0",
             "row: common-mode offset"),
     # m.d.sync += pending[n - 1].eq(scaled - total)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@7049ffb4 reference $sub#0 B[10] cnot0/4",
+            "rtl/mdfqm_gateware/reference.py@7049ffb4 reference $sub#0 Y[17] cnot1/1",
             "row: extreme codes"),
     # next_values[a].eq(Mux(a_first, values[a], values[b]))
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@5e605890 sort1 $mux#1 Y[9] inv",
+            "rtl/mdfqm_gateware/sort.py@5e605890 sort1 $mux#1 Y[11] cnot0/2",
             "row: equal references (ties)"),
     # clamped = self.period < self.latency
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[7] const1",
+            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[6] const1",
             "row: update period below the loop latency"),
     # osr_now = Mux(self.osr == 0, 1, self.osr)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $logic_not#0 Y[0] inv",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[1] const1",
             "row: OSR 0"),
     # 'policy': Out(1)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 Y[0] const1",
+            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 B[0] inv",
             "row: runtime changes of period / OSR / zero policy / mode"),
-    # restart = self.sync_in & (phase >= self.latency - 1)
+    # ends = ~self.start & (self.sync_in & late | at_end)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@c6b6cfb4 sequencer $ge#0 A[6] inv",
+            "rtl/mdfqm_gateware/sequencer.py@2ae2627a sequencer $and#1 A[0] const0",
             "row: `sync_in` at any time"),
-    # start_q, tick_q = (Signal(init=1), Signal(init=1))
+    # start_q, tick_q, sub_one = (Signal(init=1), Signal(init=1), Signal(init=1))
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@ccc5115c sequencer $mux#1 S[0] inv",
+            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#0 S[0] const1",
             "row: reset in the middle of an update"),
     # m.d.comb += self.ref.ready.eq(~(busy | full))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $or#0 A[0] const1",
+            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 Y[0] const0",
             "row: a reference beat while one is pending"),
-    # after.eq(after + delta)
+    # rem.eq(Mux(fits, trial, rem << 1))
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@6c12f5e2 layout $add#0 A[7] const1",
+            "rtl/mdfqm_gateware/resolution.py@f6a5e4a9 quantiser $mux#2 A[4] const0",
             "datapath"),
-    # hi.eq(lo + on)
+    # more.eq(self.i_bbit & (self.i_slots != 0))
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@44122aeb quantiser $add#1 A[2] const0",
+            "rtl/mdfqm_gateware/resolution.py@03d41c76 layout $reduce_bool#0 Y[0] const0",
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 A[3] inv",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[2] const0",
             "row: illegal generator `mode`"),
-    # 'upper': Out(phases)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
-            "pin polarity"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
             "pin polarity"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
+            "pin polarity"),
     # 'fault': Out(1)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const1",
             "two events in one clock"),
     # 'fault': Out(1)
     Sampled("driver",
@@ -155,31 +155,31 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: any pair of pin polarities"),
     # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8122c414 leg1 $lt#0 A[3] inv",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg1 $mux#0 Y[6] inv",
             "row: dead time below the elaboration floor"),
     # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg0 $gt#0 A[1] const1",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg0 $gt#0 A[15] const1",
             "row: a commanded pulse shorter than the minimum pulse"),
     # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 B[2] const0",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $xor#0 B[1] cnot0/0",
             "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # m.d.comb += fault_active.eq(self.fault_input | self.fault)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 Y[0] inv",
+            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 A[0] const0",
             "row: fault input chatter, fault during a dead time"),
     # drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@f9ddc422 top $mux#0 B[0] const1",
+            "rtl/mdfqm_gateware/driver.py@f9ddc422 top $and#0 A[0] const1",
             "row: enable toggled in the middle of an update"),
     # kill = ~(fault_active | self.stop) | self.all_off | rise_f & (f == 0) | rise_w & (w =...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@a08180b1 top $and#0 A[0] inv",
+            "rtl/mdfqm_gateware/driver.py@a08180b1 top $and#0 Y[0] const1",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
-    # 'lower': Out(1)
+    # 'upper': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg0 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
             "pin polarity"),
     # 'lower': Out(1)
     Sampled("top_wb",
@@ -195,11 +195,11 @@ SAMPLE: tuple[Sampled, ...] = (
             "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[23] cnot0/31",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[25] inv",
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[0] const1",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[0] cnot0/17",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
@@ -211,19 +211,19 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[3] const0",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#0 A[3] const0",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[0] const1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[3] cnot0/4",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[13] inv",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[9] cnot0/15",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@c07b0f4d top $and#0 Y[0] const1",
+            "rtl/mdfqm_gateware/top.py@c07b0f4d top $and#1 Y[0] const0",
             "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
@@ -243,7 +243,7 @@ SAMPLE: tuple[Sampled, ...] = (
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 B[2] const0",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 B[2] const1",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample

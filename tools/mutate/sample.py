@@ -96,7 +96,7 @@ ROWS = {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"total_next\.eq\(total \+ sum", ("const0",),
                    ("Y[1]",))},
     "reference beyond the linear range": {
-        "core": ("rtl/mdfqm_gateware/integrator.py", r"fits\.eq\(Cat\(\*fits_each\)", ANY,
+        "core": ("rtl/mdfqm_gateware/integrator.py", r"o_x\.eq\(Mux\(self\.o_saturated", ANY,
                  None)},
     "common-mode offset": {
         "core": ("rtl/mdfqm_gateware/reference.py", r"total\.eq\(total \+ phase_code\)", ANY,
@@ -124,10 +124,10 @@ ROWS = {
                    r"legal = self\.mode < len|bits_now = Mux\(self\.bits < 1", ANY, None)},
     "`sync_in` at any time": {
         "core": ("rtl/mdfqm_gateware/sequencer.py",
-                 r"restart = self\.sync_in & \(phase >= self\.latency - 1\)", ANY, None)},
+                 r"ends = ~self\.start & \(\(self\.sync_in & late\) \| at_end\)", ANY, None)},
     "reset in the middle of an update": {
-        "core": ("rtl/mdfqm_gateware/sequencer.py", r"start_q, tick_q = Signal\(init=1\)", ANY,
-                 ("S",))},          # the reset multiplexer's select
+        "core": ("rtl/mdfqm_gateware/sequencer.py", r"start_q, tick_q, sub_one = Signal\(init=1\)",
+                 ANY, ("S",))},          # the reset multiplexer's select
     "a reference beat while one is pending": {
         "core": ("rtl/mdfqm_gateware/reference.py", r"ref\.ready\.eq\(", ANY, None)},
     "AXI4-Lite: an access to a word that holds no register": {
