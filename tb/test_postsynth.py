@@ -37,11 +37,16 @@ PHASES, WIDTH, RULE, MAX_BITS = 3, 16, "largest_duty", 8
 FAMILIES = {
     # -dsp: the UP5K configuration, as on the iCEBreaker (the designs hold no multiplier: the
     # arithmetic is carry chains)
-    "ice40": (("synth_ice40 -dsp",), "ice40/cells_sim.v", ("SB_LUT4", "SB_DFF", "SB_CARRY")),
-    # the fallback as in tools/perf.py: YoWASP Yosys' plain synth_ecp5 stops inside ABC9 or
-    # writes a net with two drivers on some of these designs, and -dff stops on others
-    "ecp5": (("synth_ecp5", "synth_ecp5 -dff"), "ecp5/cells_sim.v",
-             ("LUT4", "TRELLIS_FF", "CCU2C")),
+    "ice40": (("synth_ice40 -dsp -top {top}",), "ice40/cells_sim.v",
+              ("SB_LUT4", "SB_DFF", "SB_CARRY")),
+    # the fallbacks: YoWASP Yosys' synth_ecp5 stops inside ABC9 (an assertion in its
+    # reintegration) or writes a net with two drivers on some of these designs, with or without
+    # -dff, depending on the netlist's very names; the last one maps the LUTs with the classic
+    # ABC instead, every other step synth_ecp5's own
+    "ecp5": (("synth_ecp5 -top {top}", "synth_ecp5 -dff -top {top}",
+              "synth_ecp5 -top {top} -run :map_luts\ntechmap -map +/lattice/latches_map.v\n"
+              "abc -lut 4\nclean\nsynth_ecp5 -top {top} -run map_cells:"),
+             "ecp5/cells_sim.v", ("LUT4", "TRELLIS_FF", "CCU2C")),
 }
 
 
@@ -105,7 +110,7 @@ def synthesise(component, toplevel: str, family: str, directory: Path) -> tuple[
     failures = []
     for synth in FAMILIES[family][0]:
         script = directory / "synth.ys"
-        script.write_text(f"read_verilog {rtl.name}\n{synth} -top {toplevel}\ncheck -assert\n"
+        script.write_text(f"read_verilog {rtl.name}\n{synth.format(top=toplevel)}\ncheck -assert\n"
                           f"tee -o stat.txt stat\nwrite_verilog -noattr {netlist.name}\n")
         result = subprocess.run([yosys, "-q", "-l", "yosys.log", script.name], cwd=directory,
                                 capture_output=True, text=True)
