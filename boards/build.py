@@ -67,6 +67,35 @@ def parse_nextpnr_log(text: str) -> dict:
     return {"utilisation": util, "clocks": clocks}
 
 
+#: where a cell's name stops naming the design's signal: the tools' suffixes for the cells
+#: they map it to (iCE40 and ECP5)
+_CELL_SUFFIX = re.compile(r"(_SB_|_TRELLIS_|_LUT4|_CCU2C|_PFUMX|_L6MUX|_DFFLC|\$).*")
+
+
+def signal_of(cell: str) -> str:
+    """The design signal a placed cell of a nextpnr path is named after: the demo's hierarchy
+    (``top.`` the drop-in top), without the pin and the tools' suffixes."""
+    cell = re.sub(r"\.[A-Z][A-Z0-9_]*$", "", cell)        # the pin (.O, .I3, .Q, .DI ...)
+    return _CELL_SUFFIX.sub("", cell).removeprefix("demo.")
+
+
+def limiting_path(text: str) -> dict | None:
+    """The system clock's critical path of a nextpnr log (its last report): the signals it runs
+    from and to, its logic steps, its delay in ns; None if the log has none."""
+    reports = re.split(r"Critical path report for ", text)
+    clocked = [r for r in reports[1:] if r.startswith("clock ")]
+    if not clocked:
+        return None
+    report = clocked[-1]
+    cells = re.findall(r"(Source|Sink) (\S+)", report)
+    total = re.findall(r"^Info:\s+(?:logic|setup)\s+[\d.]+\s+([\d.]+)", report, re.M)
+    if not cells or not total:
+        return None
+    return {"from": signal_of(cells[0][1]), "to": signal_of(cells[-1][1]),
+            "steps": len(re.findall(r"^Info:\s+logic\s", report, re.M)),
+            "ns": float(total[-1])}
+
+
 def summary(board, result: dict, seconds: float) -> str:
     util = result["utilisation"]
     lines = [f"{board.name}: {board.title}, system clock {board.sys_clk_hz / 1e6:g} MHz, "
@@ -78,6 +107,10 @@ def summary(board, result: dict, seconds: float) -> str:
             lines.append(f"  {cell:<14} {used:>6} / {total}")
     for clock, (mhz, verdict, target) in result["clocks"].items():
         lines.append(f"  Fmax {clock}: {mhz:.2f} MHz ({verdict} at {target:.2f} MHz)")
+    path = result.get("path")
+    if path is not None:
+        lines.append(f"  limiting path: {path['from']} -> {path['to']}, {path['steps']} logic "
+                     f"steps, {path['ns']:.2f} ns")
     return "\n".join(lines)
 
 
@@ -95,11 +128,12 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
     platform.build(DemoTop(board), name=NAME, build_dir=str(directory), do_program=False,
                    verbose=verbose, nextpnr_opts=" ".join(opts), synth_opts=board.synth_opts)
     seconds = time.monotonic() - start
-    result = parse_nextpnr_log((directory / f"{NAME}.tim").read_text())
+    text = (directory / f"{NAME}.tim").read_text()
+    result = parse_nextpnr_log(text)
     (directory / "summary.json").write_text(json.dumps(
         {"board": board_name, "seconds": round(seconds, 1), "seed": seed,
          "sys_clk_hz": board.sys_clk_hz, "clocks": result["clocks"]}, indent=1))
-    result.update(seconds=seconds, dir=directory, board=board)
+    result.update(seconds=seconds, dir=directory, board=board, path=limiting_path(text))
     return result
 
 

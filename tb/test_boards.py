@@ -96,6 +96,38 @@ def test_nextpnr_log_parsing_keeps_the_post_route_figure():
     assert parsed["clocks"] == {"clk": (15.97, "FAIL", 16.52)}
 
 
+#: the critical paths of a nextpnr log (shortened): the system clock's, then an I/O one
+CRITICAL_PATHS = """\
+Info: Critical path report for clock 'clk' (posedge -> posedge):
+Info:       type curr  total name
+Info:   clk-to-q  1.39  1.39 Source demo.arbiter.owner_SB_DFFESR_Q_DFFLC.O
+Info:    routing  3.60  4.99 Net demo.arbiter.owner (23,19) -> (21,24)
+Info:                          Sink demo.regs.bus__ack_SB_LUT4_I1_LC.I0
+Info:      logic  1.28  6.27 Source demo.regs.bus__ack_SB_LUT4_I1_LC.O
+Info:    routing  1.76  8.03 Net demo.regs.bus__ack_SB_LUT4_I1[3] (21,24) -> (21,24)
+Info:                          Sink demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC.I3
+Info:      logic  0.87  8.91 Source demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC.O
+Info:    routing  2.95 11.86 Net demo.NCO_FREQ_SB_DFFESR_Q_23_D (21,24) -> (23,20)
+Info:                          Sink demo.NCO_FREQ_SB_DFFESR_Q_23_D_SB_LUT4_O_LC.I2
+Info:      setup  1.15 13.01 Source demo.NCO_FREQ_SB_DFFESR_Q_23_D_SB_LUT4_O_LC.I2
+Info: 5.09 ns logic, 7.92 ns routing
+
+Info: Critical path report for cross-domain path '<async>' -> 'posedge clk':
+Info:     source  0.00  0.00 Source pin_fault_n_0.buf0.D_IN_0
+Info:      setup  0.82  4.86 Source pin_fault_n_0.i$1_SB_LUT4_I3_LC.I3
+"""
+
+
+def test_limiting_path_names_the_signals_it_runs_between():
+    """The system clock's critical path, in the demo's hierarchy: the first flop's signal to
+    the last one's, the tools' cell suffixes and the pins dropped (an I/O path is not it)."""
+    assert board_build.limiting_path(CRITICAL_PATHS) == {
+        "from": "arbiter.owner", "to": "NCO_FREQ", "steps": 2, "ns": 13.01}
+    assert board_build.limiting_path(NEXTPNR_LOG) is None
+    assert board_build.signal_of("demo.top.driver.leg0.count_next_TRELLIS_FF_Q_1.DI") == \
+        "top.driver.leg0.count_next"
+
+
 def test_yosys_stat_parsing():
     text = "x\n2.50. Printing statistics.\n     1222   SB_CARRY\n     2874   SB_LUT4\n" \
            "      762   SB_DFFSR\n=== design hierarchy ===\n     9   SB_LUT4\n"
@@ -113,6 +145,15 @@ def test_report_row_gives_the_median_and_the_minimum_over_the_seeds():
     assert "| 4224 / 5280 (80 %) |" in row
     assert "| 28.3 (PASS, +5 %) | 28.3 / 26.9 (FAIL on some seeds) | 113 |" in row
     assert "the median and the minimum Fmax over nextpnr seeds 1,2,3,4,5" in text
+    # each placement's limiting path under the table, seeds with the same one together
+    bus = {"from": "arbiter.owner", "to": "NCO_FREQ", "steps": 8, "ns": 33.0}
+    fault = {"from": "top.driver.fault_sync.stage1", "to": "top.driver.leg0.count_next",
+             "steps": 9, "ns": 30.0}
+    text = report.table([(board, {**resources, "path": bus}, 113.0, fmaxes)], ["tools"], None,
+                        (1, 2, 3), {"icebreaker": {1: bus, 2: fault, 3: bus}})
+    assert ("Limiting paths (from -> to): icebreaker: the bitstream's arbiter.owner -> NCO_FREQ "
+            "(8 logic steps); seeds 1, 3: arbiter.owner -> NCO_FREQ (8 logic steps); seed 2: "
+            "top.driver.fault_sync.stage1 -> top.driver.leg0.count_next (9 logic steps).") in text
 
 
 def test_report_table_is_spliced_between_markers():

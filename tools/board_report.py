@@ -12,7 +12,9 @@ Fmax is nextpnr's post-route figure of the board's own build (its bitstream), an
 placement alone moves it by some per cent, the median and the minimum over the nextpnr seeds
 :data:`SEEDS` as well (each seed placed and routed again in ``build/boards-seeds/seed<k>/``;
 ``--seeds 1`` for a quick table); "build" is the wall time of synthesis + place and route +
-packing of the board's own build.
+packing of the board's own build. Each placement's limiting path (nextpnr's critical path of
+the system clock: the signals it runs from and to, in the demo's hierarchy, ``top.`` the
+drop-in top) is listed under the table, so that prose names no path of its own.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from importlib import metadata
 from pathlib import Path
 
 import boards
-from boards.build import NAME, build, build_dir, parse_nextpnr_log, use_yowasp
+from boards.build import NAME, build, build_dir, limiting_path, parse_nextpnr_log, use_yowasp
 
 __all__ = [
     "DEFAULT_FILES",
@@ -80,7 +82,30 @@ def resources(board, directory: Path) -> dict:
     plls = util.get("ICESTORM_PLL" if ice40 else "EHXPLLL", (0, 0))
     mhz, verdict, target = next(iter(tim["clocks"].values()))
     return {"luts": luts, "ffs": ffs, "logic": logic, "brams": brams, "plls": plls,
-            "fmax": mhz, "verdict": verdict, "target": target}
+            "fmax": mhz, "verdict": verdict, "target": target,
+            "path": limiting_path((directory / f"{NAME}.tim").read_text())}
+
+
+def path_text(path: dict | None) -> str:
+    """A limiting path as the table's notes give it."""
+    if path is None:
+        return "not in the log"
+    return f"{path['from']} -> {path['to']} ({path['steps']} logic steps)"
+
+
+def paths_note(rows: list[tuple], paths: dict) -> str:
+    """The limiting path of each board's bitstream and of each seed's placement, seeds with the
+    same path together."""
+    parts = []
+    for board, r, _, _ in rows:
+        grouped: dict[str, list] = {}
+        for seed, path in sorted(paths.get(board.name, {}).items()):
+            grouped.setdefault(path_text(path), []).append(str(seed))
+        seeds = "; ".join(f"seed{'s' if len(found) > 1 else ''} {', '.join(found)}: {text}"
+                          for text, found in grouped.items())
+        parts.append(f"{board.name}: the bitstream's {path_text(r.get('path'))}"
+                     + (f"; {seeds}" if seeds else ""))
+    return "Limiting paths (from -> to): " + ". ".join(parts) + "."
 
 
 def tool_versions() -> list[str]:
@@ -110,8 +135,9 @@ def tool_versions() -> list[str]:
     return versions
 
 
-def table(rows: list[tuple], versions: list[str], seed, seeds=()) -> str:
-    """The marked block; ``rows``: (board, resources, build seconds, Fmax by seed)."""
+def table(rows: list[tuple], versions: list[str], seed, seeds=(), paths=None) -> str:
+    """The marked block; ``rows``: (board, resources, build seconds, Fmax by seed); ``paths``:
+    board name -> seed -> the limiting path of that seed's placement."""
     today = datetime.date.today().isoformat()
     swept = ",".join(str(s) for s in seeds)
     lines = [BEGIN,
@@ -140,20 +166,23 @@ def table(rows: list[tuple], versions: list[str], seed, seeds=()) -> str:
             f"{r['brams'][0]} | {r['plls'][0]} | "
             f"{r['fmax']:.1f} ({r['verdict']}, {margin:+.0f} %) |{swept_cell} "
             f"{'-' if seconds is None else f'{seconds:.0f}'} |")
-    lines += ["", "Tools: " + "; ".join(versions) + ".", END]
+    lines += ["", paths_note(rows, paths or {}), "", "Tools: " + "; ".join(versions) + ".",
+              END]
     return "\n".join(lines)
 
 
-def _seed_fmax(job: tuple[str, int, bool]) -> tuple[str, int, float]:
-    """Place and route one board with one seed (or read that build again): its Fmax."""
+def _seed_fmax(job: tuple[str, int, bool]) -> tuple[str, int, float, dict | None]:
+    """Place and route one board with one seed (or read that build again): its Fmax and its
+    limiting path."""
     name, seed, reuse = job
     out = ROOT / "build" / "boards-seeds" / f"seed{seed}"
     if not reuse:
         # a placement that misses the clock fails the build; its log still gives the Fmax
         with contextlib.suppress(subprocess.CalledProcessError):
             build(name, out, seed)
-    tim = parse_nextpnr_log((build_dir(name, out) / f"{NAME}.tim").read_text())
-    return name, seed, next(iter(tim["clocks"].values()))[0]
+    text = (build_dir(name, out) / f"{NAME}.tim").read_text()
+    return name, seed, next(iter(parse_nextpnr_log(text)["clocks"].values()))[0], \
+        limiting_path(text)
 
 
 def splice(text: str, block: str) -> str:
@@ -182,12 +211,13 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     seeds = tuple(int(s) for s in args.seeds.split(",") if s.strip())
     by_seed = {name: {} for name in args.boards}
+    paths = {name: {} for name in args.boards}
     if seeds:
         jobs = [(name, s, args.reuse) for name in args.boards for s in seeds]
         with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-            for name, seed, mhz in pool.map(_seed_fmax, jobs):
-                by_seed[name][seed] = mhz
-                print(f"{name}: seed {seed} {mhz:.1f} MHz", flush=True)
+            for name, seed, mhz, path in pool.map(_seed_fmax, jobs):
+                by_seed[name][seed], paths[name][seed] = mhz, path
+                print(f"{name}: seed {seed} {mhz:.1f} MHz, {path_text(path)}", flush=True)
     rows = []
     for name in args.boards:
         board = boards.get(name)
@@ -201,8 +231,8 @@ def main(argv=None) -> int:
         row = resources(board, directory)
         rows.append((board, row, seconds, by_seed[name]))
         print(f"{name}: {row['luts']} LUT4, {row['ffs']} FF, Fmax {row['fmax']:.1f} MHz "
-              f"({row['verdict']} at {row['target']:.2f})")
-    block = table(rows, tool_versions(), args.seed, seeds)
+              f"({row['verdict']} at {row['target']:.2f}), {path_text(row['path'])}")
+    block = table(rows, tool_versions(), args.seed, seeds, paths)
     for file_name in args.files:
         path = ROOT / file_name
         text = path.read_text() if path.exists() else ""
