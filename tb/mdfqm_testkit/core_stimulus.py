@@ -19,7 +19,8 @@ SCENARIOS = ("sine", "overmod", "runtime", "ties", "extremes", "limits")
 PERIOD_MAX, OSR_MAX = (1 << 16) - 1, (1 << 8) - 1
 #: chance of a reset, of a sync pulse in a clock, per scenario; ``limits``: no reset (it would cut
 #: its long updates short), syncs in its second half only (the longest update has run by then:
-#: the syncs restart long updates at any phase)
+#: the syncs restart long updates at any phase), and there one aimed at each power of two of the
+#: phase (:data:`SYNC_POINT`), none at random while an aimed one is due
 RESETS = {"runtime": 0.002}
 SYNCS = {"runtime": 0.05, "limits": 0.0005}
 
@@ -92,6 +93,25 @@ TIE_POINT = "core ties: aimed coincidences of the two sorts"
 TIE_BINS = ("legs equal", "legs one step apart", "candidates equal", "candidates close")
 #: one beat in this many of the ``ties`` scenario is aimed (each aim simulates the model ahead)
 TIE_AIM_EVERY = 16
+
+#: the ``limits`` scenario's coverpoint: a sync pulse just past a power of two 2**k of the
+#: phase (``elapsed``), 1 to 6 clocks after the phase count carried into bit k, for each k the
+#: run has room for: a sync restarts an update once ``phase + 1 >= latency`` (docs/contract.md,
+#: "Sync"), so every bit of the phase decides that test somewhere along a long update
+SYNC_POINT = "core sync: a sync pulse at a power of two of the update's phase"
+#: the bits of the phase counter (a 16-bit period) from the first one above the latency's
+SYNC_POWERS = range(3, 16)
+
+
+def sync_bins(cycles):
+    """The powers of two of the phase a ``limits`` run of ``cycles`` clocks aims its sync pulses
+    at: those whose update fits a quarter of the run (its second half holds the syncs)."""
+    return [k for k in SYNC_POWERS if (1 << k) + 16 <= cycles // 4]
+
+
+def sync_bin(k):
+    """The :data:`SYNC_POINT` bin of the power ``2**k``."""
+    return f"phase 2**{k} + 1 to 2**{k} + 6"
 
 
 def tie_bins(t, contract, rule):
@@ -174,10 +194,17 @@ def generate(rng, scenario, contract, rule, cycles, coverage=None):
     producer (holds valid and payload until accepted, idles at random) and the runtime settings
     of ``scenario``. Returns (inputs per cycle, expected outputs per cycle). With a
     :class:`~mdfqm_testkit.coverage.Coverage`, the ``ties`` scenario declares :data:`TIE_BINS`
-    and counts the updates that hit them (from the model's ``T``)."""
+    and counts the updates that hit them (from the model's ``T``), and the ``limits`` scenario
+    the bins of :data:`SYNC_POINT` its run has room for (hit by the model's ``elapsed`` in the
+    clock of a sync pulse)."""
     model = CoreModel(contract.phases, contract.width, rule)
     if coverage is not None and scenario == "ties":
         coverage.want(TIE_POINT, TIE_BINS, "core ties")
+    # the powers of two of the phase not yet met by a sync pulse (kept here, not in the
+    # coverage: the stimulus is the same with or without one)
+    sync_open = set(sync_bins(cycles)) if scenario == "limits" else set()
+    if coverage is not None and scenario == "limits":
+        coverage.want(SYNC_POINT, [sync_bin(k) for k in sync_open], "core limits")
     beats = 0
     latency = model.latency
     n = contract.phases
@@ -206,8 +233,13 @@ def generate(rng, scenario, contract, rule, cycles, coverage=None):
                 policy = rng.randint(0, 1)
             if scenario == "limits":
                 if not holding:          # the largest period is held until an update takes it
-                    period = limit_period(rng, latency, cycles - cycle - 2 * latency, longest)
+                    room = cycles - cycle - 2 * latency
+                    period = limit_period(rng, latency, room, longest)
                     longest, holding = max(longest, period), period == PERIOD_MAX
+                    fits = [k for k in sync_open if (1 << k) + 16 <= room // 2]
+                    if cycle > cycles // 2 and fits:
+                        # an update long enough for the largest power not met yet
+                        period = (1 << max(fits)) + 16 + rng.randint(0, 64)
                 osr, policy = limit_osr(rng), rng.randint(0, 1)
                 amplitude, offset = rng.uniform(0.0, 2.0) * lin, rng.uniform(-0.5, 0.5)
         if scenario in RESETS and rng.random() < RESETS[scenario]:
@@ -231,8 +263,10 @@ def generate(rng, scenario, contract, rule, cycles, coverage=None):
                                     {"period": period, "osr": osr, "zero_policy": policy},
                                     offered)
             beats += 1
+        # no random sync while an aimed one is due (it would cut the long update short)
         sync_in = int((scenario in SYNCS and (scenario != "limits" or cycle > cycles // 2)
-                      and rng.random() < SYNCS[scenario]) or cycle == sync_at)
+                       and sync_at < cycle and rng.random() < SYNCS[scenario])
+                      or cycle == sync_at)
         valid = int(offered is not None)
         payload = offered or [0] * n
         out = model.step(rst=rst, ref_valid=valid, ref=payload, period=period, osr=osr,
@@ -243,9 +277,29 @@ def generate(rng, scenario, contract, rule, cycles, coverage=None):
             _, x, r = model.inflight[:3]
             for bin_ in tie_bins([xi + ri for xi, ri in zip(x, r, strict=True)], contract, rule):
                 coverage.hit(TIE_POINT, bin_)
+        if sync_in and not rst:
+            bits = [k for k in SYNC_POWERS
+                    if out["elapsed"] >> 3 == 1 << (k - 3) and 1 <= out["elapsed"] % 8 <= 6]
+            for k in bits:
+                sync_open.discard(k)
+                if coverage is not None and scenario == "limits":
+                    coverage.hit(SYNC_POINT, sync_bin(k))
         holding = holding and not out["start"]
-        if scenario == "limits" and out["start"] and cycle > cycles // 2:
-            sync_at = sync_delay(rng, cycle)
+        if out["start"]:
+            sync_at = -1            # an aim belongs to the update it was aimed into
+        if scenario == "limits" and cycle > cycles // 2 and sync_at < cycle:
+            # the largest power not met yet that the update running now still reaches
+            begun = cycle - out["elapsed"]
+            ahead = [k for k in sync_open
+                     if cycle < begun + (1 << k) and (1 << k) + 8 < model.p_lat]
+            if ahead:
+                sync_at = begun + (1 << max(ahead)) + rng.randint(1, 6)
+            elif sync_open and model.p_lat - out["elapsed"] > 997:
+                # an update that reaches no power still open is cut short, so that a period
+                # set for one starts sooner
+                sync_at = cycle + 1
+            elif out["start"]:
+                sync_at = sync_delay(rng, cycle)
         stim["rst"].append(rst)
         stim["ref__valid"].append(valid)
         stim["ref__payload"].append(pack(payload, contract.width))
