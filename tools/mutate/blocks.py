@@ -56,6 +56,10 @@ class Block:
     classes: dict = field(default_factory=dict)
     #: hierarchy scopes (prefixes) left out of the draw: logic another block measures
     exclude: tuple[str, ...] = ()
+    #: (instance, block): an instance of another block of the campaign, built with that block's
+    #: parameters (tools/tests/test_mutate.py checks), whose survivors and undecided mutants
+    #: also run through that block's stages (tools/mutate/campaign.py ``inner_checks``)
+    inner: tuple[tuple[str, str], ...] = ()
 
 
 def core_runs(seed: int, cycles: int = 200_000) -> list[Run]:
@@ -204,7 +208,8 @@ def _blocks() -> dict[str, Block]:
               driver_runs, (CocotbTest("test_driver", "gate_driver", dict(d)),), 20),
         Block("top_wb", "top, Wishbone (MdfqmTop, the drop-in mdfqm_top_n3_w16)", "mdfqm_top",
               lambda formal: MdfqmTop(3, 16, formal=formal),
-              top_runs("top_wb", FULL_TOP_RUNS), _top_tests("top_wb"), depth),
+              top_runs("top_wb", FULL_TOP_RUNS), _top_tests("top_wb"), depth,
+              inner=(("core", "generator"),)),
         # the AXI4-Lite top's own logic: its front, the register file, counters, watchdog; the
         # core and the driver inside are the Wishbone top's netlist, measured there. Its vector
         # stage runs the Wishbone block's run lengths (the top-level logic's long run, whose top

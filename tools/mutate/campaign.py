@@ -19,10 +19,11 @@ import random
 import signal
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from .blocks import BLOCKS, Block
+from .keys import StaleKeyError
 from .netlist import (
     ROOT,
     BlockNetlist,
@@ -49,9 +50,10 @@ from .stages import (
 )
 
 __all__ = [
-    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "PROVEN_BY", "STAGES",
-    "BlockCampaign", "Settings", "check_reading", "counts", "evaluate", "kept_records", "run",
-    "stimulus_hash", "stimulus_sources", "summary_line",
+    "BUILD", "DEFAULT_COUNTS", "EQ_DEPTH", "FOCUS", "KILLED_BY", "PROVEN_BY", "STAGES",
+    "BlockCampaign", "Settings", "check_reading", "counts", "evaluate", "inner_checks",
+    "inner_key", "kept_records", "merged", "run", "stimulus_hash", "stimulus_sources",
+    "summary_line",
 ]
 
 BUILD = ROOT / "build" / "mutate"
@@ -102,18 +104,30 @@ def kept_records(results: dict, settings: Settings) -> dict:
 class BlockCampaign:
     """One block's share: netlists, benches, the database (parent process only)."""
 
-    def __init__(self, block: Block, settings: Settings):
+    def __init__(self, block: Block, settings: Settings, directory: Path | None = None):
+        """``directory``: where an outer block's mutations run through this block's stages
+        (:func:`inner_checks`; with ``settings.only``, the keys as this block names them): a
+        key that names no cell here is left out (:attr:`unresolved`), not an error."""
         from mdfqm_testkit.vectors import ports_of
 
         self.block, self.settings = block, settings
         # a run of chosen keys (--only) works apart: a campaign may be running meanwhile
-        self.directory = BUILD / (f"{block.name}-only" if settings.only else block.name)
+        self.directory = directory or BUILD / (f"{block.name}-only" if settings.only
+                                               else block.name)
         self.netlist = BlockNetlist(block.build(True), self.directory)
         self.design_hash = hashlib.sha256(
             (self.directory / "design.il").read_bytes()).hexdigest()[:16]
         component = block.build(False)
         self.ports = ports_of(component)
-        if settings.only:
+        self.unresolved = []
+        if settings.only and directory is not None:
+            self.mutations = []
+            for key in settings.only:
+                try:
+                    self.mutations += self.netlist.resolve([key])
+                except StaleKeyError:
+                    self.unresolved.append(key)
+        elif settings.only:
             self.mutations = self.netlist.resolve(settings.only)
         else:
             count = settings.counts[block.name]
@@ -443,35 +457,39 @@ def _children(pid: int) -> list[int]:
 
 
 #: how an equivalent mutant was proven (a record's ``by``): the invariant probe, a reading's
-#: proof, Yosys ``equiv``
-PROVEN_BY = ("invariant", "reading", "equiv")
+#: proof, Yosys ``equiv``, any of them in the inner block (:func:`inner_checks`)
+PROVEN_BY = ("invariant", "reading", "equiv", "inner")
+#: the stages a kill is recorded by: the block's own, and the inner block's (any of its stages,
+#: :func:`inner_checks`)
+KILLED_BY = ("vector", "cocotb", "formal", "inner")
 
 
 def counts(results: dict) -> dict:
     """Tally of a block's results: the statuses, the kills by stage, the equivalent mutants by
     proof (:data:`PROVEN_BY`), and ``went_on``: mutants a stage could not decide (a proof whose
     induction no longer closes, a run out of time), counted by what the later stages found."""
-    tally = {"tried": len(results), "killed": 0, "vector": 0, "cocotb": 0, "formal": 0,
+    tally = {"tried": len(results), "killed": 0, **{stage: 0 for stage in KILLED_BY},
              "equivalent": 0, "undecided": 0, "survived": 0, "went_on": 0,
-             **{by: 0 for by in PROVEN_BY}}
+             **{f"proven_{by}": 0 for by in PROVEN_BY}}
     for r in results.values():
         tally[r["status"]] += 1
         if r["status"] == "killed":
             tally[r["stage"]] += 1
         if r["status"] == "equivalent":
-            tally[r.get("by", "equiv")] += 1
+            tally["proven_" + r.get("by", "equiv")] += 1
         tally["went_on"] += bool(r.get("undecided"))
     return tally
 
 
 def summary_line(tallies: dict, seconds: float) -> str:
     total = {k: sum(t[k] for t in tallies.values()) for k in
-             ("tried", "killed", "vector", "cocotb", "formal", "equivalent", "undecided",
-              "survived")}
+             ("tried", "killed", *KILLED_BY, "equivalent", "undecided", "survived")}
     relevant = total["tried"] - total["equivalent"]
     rate = 100.0 * total["killed"] / relevant if relevant else 100.0
+    by_stage = ", ".join(f"{'inner block' if stage == 'inner' else stage} {total[stage]}"
+                         for stage in KILLED_BY)
     return (f"mutate: {len(tallies)} blocks, {total['tried']} mutants: {total['killed']} killed "
-            f"(vector {total['vector']}, cocotb {total['cocotb']}, formal {total['formal']}), "
+            f"({by_stage}), "
             f"{total['equivalent']} equivalent, {total['undecided']} undecided, "
             f"{total['survived']} survived; {rate:.1f} % of the non-equivalent killed; "
             f"{seconds / 60:.1f} min")
@@ -479,16 +497,36 @@ def summary_line(tallies: dict, seconds: float) -> str:
 
 def run(settings: Settings) -> dict:
     """The campaign; returns the tally per block."""
-    from tools.analysis.progress import Progress
-
     started = time.time()
-    campaigns, contexts = {}, {}
+    campaigns = {}
     for name in settings.blocks:
         campaign = BlockCampaign(BLOCKS[name], settings)
         print(f"mutate {name}: {len(campaign.mutations)} mutations (seed {settings.seed}), "
               f"{len(campaign.pending())} to run", flush=True)
-        contexts[name] = campaign.prepare()
         campaigns[name] = campaign
+    evaluate_all(campaigns, settings, started)
+    if not settings.only:
+        for campaign in campaigns.values():
+            inner_checks(campaign, settings, started)
+    tallies = {}
+    for name, campaign in campaigns.items():
+        tallies[name] = counts({k: r for k, r in campaign.results.items()
+                                if r["status"] != "error"})
+        errors = [r for r in campaign.results.values() if r["status"] == "error"]
+        if errors:
+            print(f"mutate {name}: {len(errors)} mutants could not be evaluated; first: "
+                  f"{errors[0]['detail'][:500]}")
+    print(summary_line(tallies, time.time() - started), flush=True)
+    return tallies
+
+
+def evaluate_all(campaigns: dict, settings: Settings, started: float) -> None:
+    """Every pending mutant of ``campaigns`` through the stages, in parallel, each result
+    saved as it comes; then the original through the cocotb tests and the proof where a kill
+    there needs it (a test failing on the original voids those kills)."""
+    from tools.analysis.progress import Progress
+
+    contexts = {name: campaign.prepare() for name, campaign in campaigns.items()}
     jobs = [(name, k, m) for name, c in campaigns.items() for k, m in c.pending()]
     # the original through the cocotb tests and the proof: a test failing on it would "kill"
     # every mutant (its vector stage ran in prepare)
@@ -530,7 +568,6 @@ def run(settings: Settings) -> dict:
             progress.advance(1, f"{name}: {t['killed']} killed, {t['survived']} survived, "
                                 f"{t['undecided']} undecided")
     progress.finish()
-    tallies = {}
     for name, campaign in campaigns.items():
         if later and campaign.baseline is None and any(
                 r.get("stage") in later for r in campaign.results.values()):
@@ -544,11 +581,66 @@ def run(settings: Settings) -> dict:
                     r.update(status="error", detail="the original fails this stage too")
         if campaign.ran:
             campaign.save(started)
-        tallies[name] = counts({k: r for k, r in campaign.results.items()
-                                if r["status"] != "error"})
-        errors = [r for r in campaign.results.values() if r["status"] == "error"]
-        if errors:
-            print(f"mutate {name}: {len(errors)} mutants could not be evaluated; first: "
-                  f"{errors[0]['detail'][:500]}")
-    print(summary_line(tallies, time.time() - started), flush=True)
-    return tallies
+
+
+def inner_key(key: str, scope: str) -> str | None:
+    """The key of the same mutation in the block an outer block holds as instance ``scope``
+    (:attr:`Block.inner`): the instance's name taken off the hierarchy field (its own top
+    level is ``top``); None for a mutation outside that instance."""
+    source, where, rest = key.split(" ", 2)
+    if where == scope:
+        return f"{source} top {rest}"
+    if where.startswith(scope + "."):
+        return f"{source} {where[len(scope) + 1:]} {rest}"
+    return None
+
+
+def merged(outer: dict, inner: dict | None, block: str) -> dict:
+    """An outer block's record after its mutation ran through the stages of ``block`` (the
+    inner block, its own tests, proof and checks, on its own netlist with the same mutation):
+    killed there is killed (a test of the suite fails on the fault); proven equivalent there,
+    an undecided mutant is equivalent (the inner block's outputs are the outer's only view of
+    it); any other verdict leaves the record as it was, with a line in its log."""
+    if inner is None or inner["status"] == "error":
+        why = "its key names no cell there" if inner is None else inner["detail"][:300]
+        return {**outer, "inner": block,
+                "log": [*outer["log"], f"{block}'s stages: not run ({why})"]}
+    line = f"{block}'s stages: {inner['status']} ({inner['stage'] or '-'}): {inner['detail']}"
+    record = {**outer, "inner": block, "log": [*outer["log"], line]}
+    if inner["status"] == "killed":
+        record.update(status="killed", stage="inner",
+                      detail=f"by {block}'s {inner['stage']} stage: {inner['detail']}")
+    elif inner["status"] == "equivalent" and outer["status"] == "undecided":
+        record.update(status="equivalent", stage="equivalence", by="inner",
+                      detail=f"proven in {block} ({inner.get('by', 'equiv')}): "
+                             f"{inner['detail']}")
+    return record
+
+
+def inner_checks(campaign: BlockCampaign, settings: Settings, started: float) -> None:
+    """The survivors and undecided mutants of ``campaign`` inside an instance of a block that
+    has its own campaign (:attr:`Block.inner`: the same logic, the same parameters) through
+    that block's stages, on its netlist with the same mutation; their records updated
+    (:func:`merged`). Results are kept in ``build/mutate/<inner>-in-<outer>/`` and resumed
+    from there."""
+    for scope, inner_name in campaign.block.inner:
+        mapped = {}
+        for key, record in campaign.results.items():
+            inner = inner_key(key, scope)
+            if (inner and record["status"] in ("survived", "undecided")
+                    and record.get("inner") != inner_name):
+                mapped[inner] = key
+        if not mapped:
+            continue
+        inner_settings = replace(settings, blocks=(inner_name,), only=tuple(mapped),
+                                 resume=True, recheck=False, retry=False, retry_survived=False)
+        inner = BlockCampaign(BLOCKS[inner_name], inner_settings,
+                              BUILD / f"{inner_name}-in-{campaign.block.name}")
+        print(f"mutate {campaign.block.name}: {len(mapped)} mutants inside {scope} through "
+              f"{inner_name}'s stages ({len(inner.pending())} to run)", flush=True)
+        if inner.mutations:
+            evaluate_all({inner_name: inner}, inner_settings, started)
+        for key, outer_key in mapped.items():
+            campaign.results[outer_key] = merged(campaign.results[outer_key],
+                                                 inner.results.get(key), inner_name)
+        campaign.save(started)

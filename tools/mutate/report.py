@@ -18,7 +18,7 @@ import subprocess
 import time
 from pathlib import Path
 
-from .campaign import BUILD, EQ_DEPTH, PROVEN_BY, counts
+from .campaign import BUILD, EQ_DEPTH, KILLED_BY, PROVEN_BY, counts
 from .netlist import ROOT, where
 from .registry import reading
 from .stages import BMC_SECONDS, EQUIV_SEQ
@@ -192,7 +192,14 @@ def _method() -> str:
             "from reset (SymbiYosys `bmc`, yices, every output every clock): *not equivalent* "
             "(an output differs in the longer simulation or in the bounded check: a hole in "
             "the tests), *equivalent* (proven, by one of those proofs: a reading's prose alone "
-            "never counts), or *undecided* (no difference found, not proven).")
+            "never counts), or *undecided* (no difference found, not proven). A block that holds "
+            "another block of the campaign with the same parameters (the Wishbone top's "
+            "generator, the generator block; `Block.inner` in tools/mutate/blocks.py) sends "
+            "its survivors and undecided mutants inside it through that block's stages, on "
+            "that block's netlist with the same mutation (its key with the instance's name "
+            "taken off): killed there, it is killed (a test of `make test` fails on the "
+            "fault: the *inner block* kills); proven equivalent there, an undecided one is "
+            "equivalent (the inner block's outputs are all the outer one sees of it).")
 
 
 def traceability() -> list[str]:
@@ -238,8 +245,9 @@ def write_report(out: str | Path = "reports", command: str | None = None,
                   "tools/mutate/keys.py).",
                   f"- Tools: {tool_versions()}.", "",
                   "## Per block", "",
-                  "| block | tried | killed (vector / cocotb / formal) | equivalent, proven "
-                  "(probe / reading's proof / equiv) | undecided (of them read, not proven) | "
+                  "| block | tried | killed (vector / cocotb / formal / inner block) | "
+                  "equivalent, proven (probe / reading's proof / equiv / in the inner block) | "
+                  "undecided (of them read, not proven) | "
                   "survived | killed of non-equivalent | target |",
                   "|---|---|---|---|---|---|---|---|"]
         survivors, by_reading = [], []
@@ -257,9 +265,10 @@ def write_report(out: str | Path = "reports", command: str | None = None,
                     else "**not met**")
             read = sum(1 for k, r in results.items() if r["status"] == "undecided"
                        and reading(k) is not None)
-            lines.append(f"| {db['title']} | {t['tried']} | {t['killed']} ({t['vector']} / "
-                         f"{t['cocotb']} / {t['formal']}) | {t['equivalent']} ("
-                         f"{' / '.join(str(t[by]) for by in PROVEN_BY)}) | "
+            lines.append(f"| {db['title']} | {t['tried']} | {t['killed']} ("
+                         f"{' / '.join(str(t[stage]) for stage in KILLED_BY)}) | "
+                         f"{t['equivalent']} ("
+                         f"{' / '.join(str(t['proven_' + by]) for by in PROVEN_BY)}) | "
                          f"{t['undecided']} ({read}) | {t['survived']} | {rate:.1f} % | "
                          f"{target:.0f} %: {mark} |")
             by_key = {m["key"]: m for m in db["mutations"]}

@@ -237,11 +237,69 @@ def test_tallies_and_the_summary_line():
     results["d"]["undecided"] = ["formal"]
     tally = campaign.counts(results)
     assert tally == {"tried": 4, "killed": 2, "vector": 1, "cocotb": 0, "formal": 1,
-                     "equivalent": 1, "undecided": 0, "survived": 1, "went_on": 1,
-                     "invariant": 0, "reading": 1, "equiv": 0}
+                     "inner": 0, "equivalent": 1, "undecided": 0, "survived": 1, "went_on": 1,
+                     "proven_invariant": 0, "proven_reading": 1, "proven_equiv": 0,
+                     "proven_inner": 0}
     line = campaign.summary_line({"driver": tally}, 120)
-    assert "4 mutants: 2 killed (vector 1, cocotb 0, formal 1), 1 equivalent" in line
+    assert ("4 mutants: 2 killed (vector 1, cocotb 0, formal 1, inner block 0), 1 equivalent"
+            in line)
     assert "66.7 % of the non-equivalent killed; 2.0 min" in line
+
+
+def test_an_inner_blocks_key_is_the_outer_key_without_the_instance():
+    source = "rtl/mdfqm_gateware/resolution.py@d841a694"
+    assert (campaign.inner_key(f"{source} core.quantiser $add#0 B[1] inv", "core")
+            == f"{source} quantiser $add#0 B[1] inv")
+    assert (campaign.inner_key(f"{source} core $mux#0 B[3] const1", "core")
+            == f"{source} top $mux#0 B[3] const1")
+    for outside in ("top", "driver.leg0", "core_x.y"):
+        assert campaign.inner_key(f"{source} {outside} $mux#0 B[3] const1", "core") is None
+
+
+def test_an_inner_blocks_verdict_kills_or_proves_only_what_it_may():
+    """Killed in the inner block: killed (by its stage); proven equivalent there: an
+    undecided mutant is equivalent, a survivor (a difference the outer block showed) stays;
+    anything else, or no cell there: the record as it was, the inner block's finding logged."""
+    undecided = {"status": "undecided", "stage": "equivalence", "detail": "no difference",
+                 "log": ["vector: 10 clocks equal"]}
+    survived = {**undecided, "status": "survived", "detail": "an output differs"}
+    killed = {"status": "killed", "stage": "vector", "detail": "run0: 3 mismatches"}
+    proven = {"status": "equivalent", "stage": "equivalence", "by": "equiv", "detail": "proven"}
+    still = {"status": "undecided", "stage": "equivalence", "detail": "no difference there"}
+    got = campaign.merged(survived, killed, "generator")
+    assert (got["status"], got["stage"]) == ("killed", "inner")
+    assert got["detail"] == "by generator's vector stage: run0: 3 mismatches"
+    got = campaign.merged(undecided, proven, "generator")
+    assert (got["status"], got["by"]) == ("equivalent", "inner")
+    assert campaign.merged(survived, proven, "generator")["status"] == "survived"
+    for inner in (still, None):
+        got = campaign.merged(undecided, inner, "generator")
+        assert {k: v for k, v in got.items() if k not in ("log", "inner")} == {
+            k: v for k, v in undecided.items() if k != "log"}
+        assert got["inner"] == "generator" and got["log"][:-1] == undecided["log"]
+        assert got["log"][-1].startswith("generator's stages: ")
+    assert campaign.counts({"a": campaign.merged(survived, killed, "generator")})["inner"] == 1
+
+
+def test_an_inner_block_is_built_as_its_own_campaign_builds_it():
+    """An outer block's instance of an inner block has the inner block's class and
+    parameters: the same netlist, so that the same mutation key names the same fault."""
+    import inspect
+
+    from amaranth.hdl import Fragment
+
+    from tools.mutate.blocks import BLOCKS
+
+    pairs = [(outer, scope, inner) for outer in BLOCKS.values() for scope, inner in outer.inner]
+    assert pairs, "no block has an inner block"
+    for outer, scope, inner in pairs:
+        fragment = Fragment.get(outer.build(False), None)
+        (instance,) = [f.origins[0] for f, name, _ in fragment.subfragments if name == scope]
+        alone = BLOCKS[inner].build(False)
+        assert type(instance) is type(alone), (outer.name, scope)
+        for name in inspect.signature(type(alone).__init__).parameters:
+            if name != "self":
+                assert getattr(instance, name) == getattr(alone, name), (outer.name, name)
 
 
 def test_a_resumed_run_keeps_the_records_its_retry_option_does_not_run_again():
@@ -524,7 +582,8 @@ def test_the_report_counts_a_reading_only_through_its_proof(tmp_path, monkeypatc
         "mutations": mutations, "results": records}))
     text = report.write_report(tmp_path, "python -m tools.mutate",
                                tmp_path / "db").read_text()
-    assert "| top, Wishbone | 3 | 1 (1 / 0 / 0) | 1 (0 / 1 / 0) | 1 (1) | 0 | 50.0 % |" in text
+    assert ("| top, Wishbone | 3 | 1 (1 / 0 / 0 / 0) | 1 (0 / 1 / 0 / 0) | 1 (1) | 0 | 50.0 % |"
+            in text)
     assert "1 mutants went on past a stage that could not decide" in text
     assert "results of 2026-01-02" in text
     equivalent, survivors = (text.split("## Equivalent by a reading's proof")[1],
