@@ -133,8 +133,10 @@ class AxiLiteFront(wiring.Component):
             return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
 
         aw_full, w_full, ar_full = Signal(), Signal(), Signal()
-        # The holding registers are read only while their full flag is set, and every fill loads
-        # them, so a reset has no value to give them.
+        # The holding registers are read only while their full flag is set. While it is clear
+        # they follow their channel, so the handshake that sets it leaves the request in them
+        # and the clock that ends the access keeps it (no state of theirs goes unread), and a
+        # reset has no value to give them.
         aw_adr = Signal(aw, reset_less=True)
         ar_adr = Signal(aw, reset_less=True)
         w_data = Signal(32, reset_less=True)
@@ -155,9 +157,9 @@ class AxiLiteFront(wiring.Component):
                          bus.bresp.eq(response(aw_adr))]
         with m.Else():
             with m.If(bus.awvalid & ~aw_full):
-                m.d.sync += [aw_full.eq(1), aw_adr.eq(bus.awaddr[2:])]
+                m.d.sync += aw_full.eq(1)
             with m.If(bus.wvalid & ~w_full):
-                m.d.sync += [w_full.eq(1), w_data.eq(bus.wdata)]
+                m.d.sync += w_full.eq(1)
             with m.If(bus.bready):
                 m.d.sync += bus.bvalid.eq(0)
         with m.If(do_read):
@@ -165,9 +167,15 @@ class AxiLiteFront(wiring.Component):
                          bus.rresp.eq(response(ar_adr))]
         with m.Else():
             with m.If(bus.arvalid & ~ar_full):
-                m.d.sync += [ar_full.eq(1), ar_adr.eq(bus.araddr[2:])]
+                m.d.sync += ar_full.eq(1)
             with m.If(bus.rready):
                 m.d.sync += bus.rvalid.eq(0)
+        with m.If(~aw_full):
+            m.d.sync += aw_adr.eq(bus.awaddr[2:])
+        with m.If(~w_full):
+            m.d.sync += w_data.eq(bus.wdata)
+        with m.If(~ar_full):
+            m.d.sync += ar_adr.eq(bus.araddr[2:])
         if self.formal:
             self._properties(m, aw_full, w_full, ar_full, do_write)
         return m
