@@ -399,4 +399,40 @@ READINGS: tuple[Reading, ...] = (
         "not equivalent, out of the runs' reach: WATCHDOG_TRIPS' next value has its bit 7 "
         "flipped while its bit 12 is set, after 4,096 watchdog trips without a COUNT_CLEAR "
         "(the 16-bit count is the register map's, whatever counter_width is)."),
+    Reading(
+        "rtl/mdfqm_gateware/resolution.py@d841a694 core.quantiser $add#0 B[1] inv",
+        "the offset `2 max(T) + NF / 2**b` of a g = 0 update gains 2 (bit 1 of the constant is "
+        "0 for every b <= 8), so each instant `V_i = offset - 2 T_i` moves up by 2, its "
+        "smallest step. No reachable update has an instant that this moves across a decision "
+        "boundary: the legs' `T` stay congruent modulo N (reset empties the integrators; each "
+        "update adds `R_i = N c_i - sum c` and takes `U_i = (sum m - N m_i) FULL / 2**B`, the "
+        "same for every leg modulo N), so with N = 3 every `V_i = 2 (max T - T_i) + NF / 2**b` "
+        "is a multiple of 6, and so is every boundary `j 2 NF / 2**b`: an instant sits on one "
+        "or at least 6 (three of its steps) below it."),
+    Reading(
+        "rtl/mdfqm_gateware/selector.py@e922e0a4 core.candidates $dff#0 Q[17] const0",
+        "bit 17 of candidate 0, `NF - (rho_0 - rho_(N-1))`, is forced to 0: a candidate in "
+        "[0, NF] (`NF = 49,152 < 2**17`) has it clear already, and a negative one (beyond the "
+        "linear range) only becomes more negative. A negative candidate 0 is never sort2's "
+        "maximum: the other candidates, the duties `rho_(j-1) - rho_j`, sum to "
+        "`rho_0 - rho_(N-1) > NF > 0`, so one of them is positive; sort2's index, all the "
+        "candidates give downstream, is the same."),
+    Reading(
+        "rtl/mdfqm_gateware/sequencer.py@e917680f core.sequencer $dff#0 Q[0] const0",
+        "bit 0 of the latched period `P` is forced to 0. Its only reader is the generator's "
+        "slot length `P >> b`: a slot-mode update shifts it right b >= 1 times (bit 0 goes "
+        "first), and an MDFQM update loads it unused (no slot follows its state)."),
+    Reading(
+        "rtl/mdfqm_gateware/reference.py@6144722f core.reference $mux#2 B[10] inv",
+        "a reset leaves bit 10 of the reference stage's third pending value set instead of "
+        "clear. Nothing reads the pending values before a beat has been formed into them (the "
+        "stage is not full after a reset), and forming a beat writes all N; a register written "
+        "before it is read needs no reset value (the reset could go, and this mutant with it)."),
+    Reading(
+        "rtl/mdfqm_gateware/sort.py@d1779d07 core.sort1 $not#1 Y[0] const1",
+        "sort1's tie-break key of one input of a compare is forced to favour it, so two equal "
+        "`T` come out in the other order: the same values `rho`, so the same candidates and "
+        "the same `j*`, and the state differs only if `j*` splits the two equal legs. Under the "
+        "largest-duty rule that split is a duty `rho_j - rho_(j+1) = 0`, never the largest "
+        "(the duties sum to `N FULL > 0`)."),
 )
