@@ -435,4 +435,14 @@ READINGS: tuple[Reading, ...] = (
         "the same `j*`, and the state differs only if `j*` splits the two equal legs. Under the "
         "largest-duty rule that split is a duty `rho_j - rho_(j+1) = 0`, never the largest "
         "(the duties sum to `N FULL > 0`)."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@76bb7213 top $pmux#0 B[280] cnot1/150",
+        "not equivalent, out of any simulation's reach: a read of WATCHDOG_TRIPS returns bit "
+        "24 set while EVENTS_0 holds bit 22, after 4,194,304 turn-ons of leg 0 without a "
+        "COUNT_CLEAR (the AXI4-Lite block's 8-bit counters put every counter bit in a run's "
+        "reach; the Wishbone one is the drop-in's 32 bits)."),
+    Reading(
+        "rtl/mdfqm_gateware/top.py@146f00d4 top $add#0 Y[23] cnot1/30",
+        "not equivalent, out of any simulation's reach: a switching counter's bit 23 is flipped "
+        "while its bit 30 is set, after 2**30 turn-ons of one leg without a COUNT_CLEAR."),
 )
