@@ -107,7 +107,7 @@ class BlockCampaign:
     def __init__(self, block: Block, settings: Settings, directory: Path | None = None):
         """``directory``: where an outer block's mutations run through this block's stages
         (:func:`inner_checks`; with ``settings.only``, the keys as this block names them): a
-        key that names no cell here is left out (:attr:`unresolved`), not an error."""
+        key that names no cell here is left out, not an error."""
         from mdfqm_testkit.vectors import ports_of
 
         self.block, self.settings = block, settings
@@ -119,14 +119,11 @@ class BlockCampaign:
             (self.directory / "design.il").read_bytes()).hexdigest()[:16]
         component = block.build(False)
         self.ports = ports_of(component)
-        self.unresolved = []
         if settings.only and directory is not None:
             self.mutations = []
             for key in settings.only:
-                try:
+                with contextlib.suppress(StaleKeyError):
                     self.mutations += self.netlist.resolve([key])
-                except StaleKeyError:
-                    self.unresolved.append(key)
         elif settings.only:
             self.mutations = self.netlist.resolve(settings.only)
         else:
@@ -632,8 +629,9 @@ def inner_checks(campaign: BlockCampaign, settings: Settings, started: float) ->
                 mapped[inner] = key
         if not mapped:
             continue
+        # --retry (the tests changed) runs the inner block's undecided records again too
         inner_settings = replace(settings, blocks=(inner_name,), only=tuple(mapped),
-                                 resume=True, recheck=False, retry=False, retry_survived=False)
+                                 resume=True, recheck=False, retry_survived=False)
         inner = BlockCampaign(BLOCKS[inner_name], inner_settings,
                               BUILD / f"{inner_name}-in-{campaign.block.name}")
         print(f"mutate {campaign.block.name}: {len(mapped)} mutants inside {scope} through "
