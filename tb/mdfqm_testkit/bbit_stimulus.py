@@ -20,7 +20,9 @@ hits their coverpoints from what the model shows in each clock:
 - ``handover``: mdfqm and the slot modes alternating every update or two, mostly small b, the
   fewest-transitions zero policy, small amplitudes (:class:`Handover`);
 - ``overmod`` / ``extremes``: up to twice the linear range with common mode, and extreme codes,
-  in random modes (:class:`BeyondLinearRange`, :class:`ExtremeCodes`);
+  in random modes (:class:`BeyondLinearRange`, :class:`ExtremeCodes`); in runs of 15,000 clocks
+  or more, beats aimed so that an instant sits on or a step below its rounding point while a
+  ``T`` lies beyond the integrators' range, below and above, for each zero split's offset;
 - ``limits``: every setting at its ends and at the values its clamp changes
   (:class:`SettingsAtTheirLimits`: period 0, 1, the minimum and, where the run has room, one up
   to 2**16 - 1, held in a slot mode at b = 1 or 2; OSR 0, 1, 254, 255; mode 0-7, b 0, 1,
@@ -38,7 +40,7 @@ import math
 
 from mdfqm_model.bbit import gamma2_for, rounding_numerators
 from mdfqm_model.clock import GeneratorModel
-from mdfqm_model.update import sort1
+from mdfqm_model.update import remove_common_mode, sort1
 from mdfqm_spec.contract import MODES, latch_mode, min_period
 from mdfqm_testkit import core_stimulus
 from mdfqm_testkit.core_stimulus import (
@@ -50,6 +52,7 @@ from mdfqm_testkit.core_stimulus import (
     linear_amplitude,
     sine_codes,
     sync_delay,
+    x_at_use,
 )
 from mdfqm_testkit.coverage import Coverage
 from mdfqm_testkit.harness import pack
@@ -111,6 +114,48 @@ def rounding_legs(t, mode: int, bits: int, contract) -> set[tuple[str, int]]:
 def rounding_places(t, mode: int, bits: int, contract) -> set[str]:
     """The :data:`ROUNDING_PLACES` the instants of a slot-mode update with ``T = t`` take."""
     return {place for place, _ in rounding_legs(t, mode, bits, contract)}
+
+
+#: the offset each zero split measures the instants from, by twice gamma (docs/contract.md,
+#: "b-bit pulse-width resolution": ``2 C_i = g2 NF + (2 - g2) max(T) + g2 min(T) - 2 T_i``,
+#: so ``2 max(T)`` for dpwm0, ``max(T) + min(T)`` for svpwm, ``2 min(T)`` for dpwm1; dpwm
+#: takes the first or the last by its sector)
+OFFSETS = {0: "the dpwm0 offset", 1: "the svpwm offset", 2: "the dpwm1 offset"}
+#: the sides of the integrators' range a leg's ``T = X + R`` can reach past (by up to R's
+#: bound: docs/contract.md, "Integrator bound")
+SIDES = ("below", "above")
+#: (twice gamma, side, place) -> the bin of ``BeyondLinearRange.ROUNDING``
+ROUNDING_BINS = {(g2, side, place): f"{OFFSETS[g2]}, a T {side} the range, an instant {place}"
+                 for g2 in OFFSETS for side in SIDES for place in ROUNDING_PLACES}
+
+
+def sides_beyond(t, contract) -> set[str]:
+    """The :data:`SIDES` of the integrators' ``x_width``-bit range some ``T_i`` lies beyond."""
+    return {side for side, past in zip(SIDES, (min(t) < contract.x_min, max(t) > contract.x_max),
+                                       strict=True) if past}
+
+
+def rounding_beyond_codes(rng, contract, x, mode: int, bits: int, side: str, place: str,
+                          tries: int):
+    """A beat that, taken into the integrators ``x``, puts a leg's instant of a ``mode`` update
+    at ``bits`` at ``place`` (of :data:`ROUNDING_PLACES`) against its rounding point while a
+    leg's ``T`` lies beyond the integrators' range on ``side``; None if none of ``tries``
+    random beats, each with one leg's code moved through a whole rounding period
+    (``FULL >> b`` codes: its instant moves ``2 N`` per code against the others'), gets
+    there."""
+    n, lo, hi = contract.phases, contract.code_min, contract.code_max
+    period = (contract.full >> bits) + 1
+    for _ in range(tries):
+        codes = [rng.choice((lo, hi, rng.randint(lo, hi))) for _ in range(n)]
+        leg = rng.randrange(n)
+        first = rng.randint(lo, hi - period)
+        for code in range(first, first + period):
+            codes[leg] = code
+            t = [xi + ri for xi, ri in zip(x, remove_common_mode(codes, n), strict=True)]
+            if side in sides_beyond(t, contract) and (
+                    (place, leg) in rounding_legs(t, mode, bits, contract)):
+                return codes
+    return None
 
 
 def boundary_codes(rng, contract, phases, bits):
@@ -236,12 +281,14 @@ class Beats:
         self.amplitude, self.offset = 0.9 * run.linear, 0.0
         self.offered = None
         self.label = ""
+        self.stalled = False        # no beat of its own (a sequence aims the next one)
+        self.held = [0] * run.contract.phases   # the codes of kind "held"
 
     def offer(self, codes, label: str) -> None:
         self.offered, self.label = codes, label
 
     def decide(self) -> None:
-        if self.offered is not None or self.rng.random() >= 0.7:    # idle gaps between beats
+        if self.stalled or self.offered is not None or self.rng.random() >= 0.7:  # idle gaps
             return
         rng, c, n = self.rng, self.contract, self.contract.phases
         self.angle += self.step
@@ -255,6 +302,8 @@ class Beats:
             codes = grid_codes(rng, c, n, max(self.run.settings["bits"], 1))
         elif kind == "boundary":
             codes = boundary_codes(rng, c, n, self.run.settings["bits"])
+        elif kind == "held":
+            codes = list(self.held)
         else:
             codes = sine_codes(c, self.amplitude, self.angle, self.offset)
         self.offer(codes, kind)
@@ -441,21 +490,45 @@ class Handover(GeneratorSequence):
 
 class BeyondLinearRange(GeneratorSequence):
     """References up to twice the linear range with common mode, in random modes: the
-    integrators hold instead of wrapping (saturated for that update)."""
+    integrators hold instead of wrapping (saturated for that update). In a long run, once an
+    update has saturated, beats aimed (from the model run ahead) so that a leg's instant sits
+    exactly on its rounding point, or a step below it, while some leg's ``T`` lies beyond the
+    integrators' range, below it and above it, for each zero split's offset: the quantiser
+    rounds half up over ``T``'s whole width, where the extreme ``T`` is the dpwm0 or dpwm1
+    offset's operand."""
 
     rules = (robustness("reference beyond the linear range"),
-             robustness("common-mode offset on the reference"))
+             robustness("common-mode offset on the reference"), RESOLUTION)
     SCENARIOS = ("overmod",)
     POINT = "update saturated"
+    ROUNDING = "beyond the integrators' range: an instant at its rounding point"
+    #: the run length from which the rounding point is aimed at (the cocotb run's)
+    ROUNDING_RUN = 15_000
+    #: beats an aim draws for a bin before it gives up (each tries a whole rounding period)
+    TRIES = 100
+    #: aims in a row between two changes of the random settings
+    AIMS = 4
+    #: updates a steer lets the integrators run back (each takes them up to ``(N - 1) FULL``
+    #: nearer zero, from at most ``2**(x_width-1)``: docs/contract.md, "Integrator bound")
+    RELEASE = 16
+    #: updates a steer then lasts (each takes the integrators a quarter of ``N FULL`` or so
+    #: further, to ``2**(x_width-1) >= 2 N FULL``)
+    STEERING = 32
 
     @classmethod
     def coverpoints(cls, run):
-        return {cls.POINT: ("in MDFQM", "in a slot mode")}
+        points = {cls.POINT: ("in MDFQM", "in a slot mode")}
+        if run.cycles >= cls.ROUNDING_RUN:
+            points[cls.ROUNDING] = tuple(ROUNDING_BINS.values())
+        return points
 
     def body(self):
         run, rng = self.run, self.rng
         s = run.settings
         while True:
+            for _ in range(self.AIMS):
+                if run.model.saturated and run.coverage.is_open(self.ROUNDING):
+                    yield from self.aim_at_rounding()
             open_ = run.coverage.open_bins(self.POINT)
             s["mode"] = (0 if open_ == ["in MDFQM"] else rng.randint(1, len(MODES) - 1)
                          if open_ == ["in a slot mode"] else rng.randint(0, len(MODES) - 1))
@@ -466,6 +539,62 @@ class BeyondLinearRange(GeneratorSequence):
             run.stream.amplitude = rng.uniform(1.5 if deep else 1.0, 2.0) * run.linear
             run.stream.offset = rng.uniform(-0.5, 0.5)
             yield from run.pace(self.POINT)
+
+    def aim_at_rounding(self):
+        """One beat aimed at an open bin of :attr:`ROUNDING`: the stream stalled until the
+        model is ready with nothing offered, then, for each open bin in random order, the mode
+        of its offset at the finest b and a beat searched for the integrators the model shows
+        at the update that takes it; the first beat found is offered (a bin's side may be out
+        of reach from those integrators) until the update that takes it starts. None found,
+        the integrators are steered towards the side of an open bin."""
+        run, rng, model = self.run, self.rng, self.run.model
+        s, bits = run.settings, model.max_bits
+        run.stream.stalled = True
+        ready = yield from run.until(lambda: model.ref_ready and run.stream.offered is None,
+                                     limit=PERIOD_MAX)
+        aims = [key for key in ROUNDING_BINS
+                if ready and ROUNDING_BINS[key] in run.coverage.open_bins(self.ROUNDING)]
+        rng.shuffle(aims)
+        for g2, side, place in aims:
+            mode = MODES.index(OFFSETS[g2].split()[1])
+            s.update(mode=mode, bits=bits, osr=1,
+                     period=_period_for(rng, model, mode, bits, "at the minimum"))
+            x = x_at_use(model, [0] * run.contract.phases,
+                         {"period": s["period"], "osr": s["osr"], "zero_policy": s["policy"],
+                          "mode": mode, "bits": bits})
+            codes = None if x is None else rounding_beyond_codes(
+                rng, run.contract, x, mode, bits, side, place, self.TRIES)
+            if codes is not None:
+                run.stream.offer(codes, "beyond")
+                break
+        else:
+            if aims:
+                yield from self.steer(aims[0][1])
+                return
+        yield
+        run.stream.stalled = False
+        yield from run.updates(1)
+
+    def steer(self, side: str):
+        """MDFQM updates at the shortest period, first on equal codes (``R = 0``: the
+        integrators, held at their bound, run back towards zero), then on a beat held just
+        beyond the linear range (a quarter of FULL), two legs at one end of the code range and
+        the others a step of ``5/4 FULL`` from them: the integrators creep to their bound
+        along that direction, the two legs together. Two legs below and the others at the
+        bound above (``side`` "below") is where a ``T`` below the range can sit next to
+        another leg's instant still inside the update (their ``T`` within ``NF`` of each
+        other), and the other way round for "above"."""
+        run, rng, c = self.run, self.rng, self.run.contract
+        n, step = c.phases, c.full + c.full // 4
+        pair = rng.sample(range(n), 2)
+        low = c.code_min if side == "below" else c.code_max - step
+        codes = [low + (0 if (i in pair) == (side == "below") else step) for i in range(n)]
+        run.settings.update(mode=0, osr=1, period=run.model.latency)
+        run.stream.stalled = False
+        for held, updates in (([low] * n, self.RELEASE), (codes, self.STEERING)):
+            run.stream.held, run.stream.kind = held, "held"
+            yield from run.updates(updates)
+        run.stream.kind = "sine"
 
 
 class ExtremeCodes(GeneratorSequence):
@@ -760,6 +889,7 @@ class GeneratorRun(Waits):
             self.holding = self.holding and not out["start"]
             if out["start"] and not self.rst:
                 self.starts += 1
+                self._update_started()
             self._after()
             for name, value in (("rst", self.rst), ("ref__valid", valid),
                                 ("ref__payload", pack(payload, self.contract.width)),
@@ -870,6 +1000,23 @@ class GeneratorRun(Waits):
             if kind == "half way":
                 self.hit(FirstUpdateFromReset.POINT, HALF_WAY)
             self.first_layout = kind == "first slot"
+
+    def _update_started(self) -> None:
+        """What the update started in this clock takes: an instant on its rounding point with
+        a ``T`` beyond the integrators' range."""
+        if BeyondLinearRange.ROUNDING not in self.coverage.goals:
+            return
+        _, x, r, _, (mode, bits, _) = self.model.inflight
+        if not mode:
+            return
+        t = [xi + ri for xi, ri in zip(x, r, strict=True)]
+        sides = sides_beyond(t, self.contract)
+        places = rounding_places(t, mode, bits, self.contract) if sides else ()
+        if places:
+            g2 = gamma2_for(MODES[mode], sort1(t)[0])
+            for side in sides:
+                for place in places:
+                    self.hit(BeyondLinearRange.ROUNDING, ROUNDING_BINS[g2, side, place])
 
     def _after(self) -> None:
         """What the clock presented: a saturated update, the first layout of a trial."""
