@@ -429,6 +429,13 @@ READINGS: tuple[Reading, ...] = (
         "stage is not full after a reset), and forming a beat writes all N; a register written "
         "before it is read needs no reset value (the reset could go, and this mutant with it)."),
     Reading(
+        "rtl/mdfqm_gateware/generator.py@a1d75b8e core $mux#0 B[3] const1",
+        "a reset loads 8 instead of 0 into the slot count `slot_m2` (bit 3 of its reset value "
+        "set). The next clock after the reset writes `slot_len - 2` into it, as every clock "
+        "does, and the slot layout reads it only when an update commits, at least L clocks "
+        "after a reset: its reset value is never read (the reset could go, and this mutant "
+        "with it)."),
+    Reading(
         "rtl/mdfqm_gateware/sort.py@d1779d07 core.sort1 $not#1 Y[0] const1",
         "sort1's tie-break key of one input of a compare is forced to favour it, so two equal "
         "`T` come out in the other order: the same values `rho`, so the same candidates and "
