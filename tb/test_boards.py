@@ -2,6 +2,7 @@
 what icepll / ecppll compute, clock and UART arithmetic, the build's log parsing and timing
 gate, the report's table splicing."""
 
+import json
 import re
 import subprocess
 import sys
@@ -96,35 +97,41 @@ def test_nextpnr_log_parsing_keeps_the_post_route_figure():
     assert parsed["clocks"] == {"clk": (15.97, "FAIL", 16.52)}
 
 
-#: the critical paths of a nextpnr log (shortened): the system clock's, then an I/O one
-CRITICAL_PATHS = """\
-Info: Critical path report for clock 'clk' (posedge -> posedge):
-Info:       type curr  total name
-Info:   clk-to-q  1.39  1.39 Source demo.arbiter.owner_SB_DFFESR_Q_DFFLC.O
-Info:    routing  3.60  4.99 Net demo.arbiter.owner (23,19) -> (21,24)
-Info:                          Sink demo.regs.bus__ack_SB_LUT4_I1_LC.I0
-Info:      logic  1.28  6.27 Source demo.regs.bus__ack_SB_LUT4_I1_LC.O
-Info:    routing  1.76  8.03 Net demo.regs.bus__ack_SB_LUT4_I1[3] (21,24) -> (21,24)
-Info:                          Sink demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC.I3
-Info:      logic  0.87  8.91 Source demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC.O
-Info:    routing  2.95 11.86 Net demo.NCO_FREQ_SB_DFFESR_Q_23_D (21,24) -> (23,20)
-Info:                          Sink demo.NCO_FREQ_SB_DFFESR_Q_23_D_SB_LUT4_O_LC.I2
-Info:      setup  1.15 13.01 Source demo.NCO_FREQ_SB_DFFESR_Q_23_D_SB_LUT4_O_LC.I2
-Info: 5.09 ns logic, 7.92 ns routing
-
-Info: Critical path report for cross-domain path '<async>' -> 'posedge clk':
-Info:     source  0.00  0.00 Source pin_fault_n_0.buf0.D_IN_0
-Info:      setup  0.82  4.86 Source pin_fault_n_0.i$1_SB_LUT4_I3_LC.I3
-"""
+def _step(kind, delay, cell, port, to_cell=None, to_port=None):
+    """One step of a path in nextpnr's ``--report`` JSON."""
+    return {"type": kind, "delay": delay, "from": {"cell": cell, "port": port},
+            "to": {"cell": to_cell or cell, "port": to_port or port}}
 
 
-def test_limiting_path_names_the_signals_it_runs_between():
-    """The system clock's critical path, in the demo's hierarchy: the first flop's signal to
-    the last one's, the tools' cell suffixes and the pins dropped (an I/O path is not it)."""
-    assert board_build.limiting_path(CRITICAL_PATHS) == {
-        "from": "arbiter.owner", "to": "NCO_FREQ", "steps": 2, "ns": 13.01}
-    assert board_build.limiting_path(NEXTPNR_LOG) is None
-    assert board_build.signal_of("demo.top.driver.leg0.count_next_TRELLIS_FF_Q_1.DI") == \
+#: a nextpnr ``--report`` of a demo: the system clock's path (two logic steps, the first flop
+#: an arbiter's, the last an NCO register's LUT input) and an I/O path from an async pin
+CRITICAL_PATHS = {"fmax": {"clk": {"achieved": 76.9, "constraint": 24.0}}, "critical_paths": [
+    {"from": "posedge clk", "to": "posedge clk", "path": [
+        _step("clk-to-q", 1.39, "demo.arbiter.owner_SB_DFFESR_Q_DFFLC", "O"),
+        _step("routing", 3.60, "demo.arbiter.owner_SB_DFFESR_Q_DFFLC", "O",
+              "demo.regs.bus__ack_SB_LUT4_I1_LC", "I0"),
+        _step("logic", 1.28, "demo.regs.bus__ack_SB_LUT4_I1_LC", "I0", None, "O"),
+        _step("routing", 1.76, "demo.regs.bus__ack_SB_LUT4_I1_LC", "O",
+              "demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC", "I3"),
+        _step("logic", 0.87, "demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC",
+              "I3", None, "O"),
+        _step("routing", 2.95, "demo.top.driver.leg0.count_next_SB_DFFSR_Q_14_D_SB_LUT4_O_LC",
+              "O", "demo.NCO_FREQ_SB_DFFESR_Q_23_D_SB_LUT4_O_LC", "I2"),
+        _step("setup", 1.15, "demo.NCO_FREQ_SB_DFFESR_Q_23_D_SB_LUT4_O_LC", "I2")]},
+    {"from": "<async>", "to": "posedge clk", "path": [
+        _step("source", 0.0, "pin_fault_n_0.buf0", "D_IN_0"),
+        _step("setup", 4.86, "pin_fault_n_0.i$1_SB_LUT4_I3_LC", "I3")]}]}
+
+
+def test_limiting_path_names_the_signals_it_runs_between(tmp_path):
+    """The system clock's critical path of a build's nextpnr report, in the demo's hierarchy:
+    the first flop's signal to the last one's, the tools' cell suffixes dropped (an I/O path
+    is not it); none without a report."""
+    (tmp_path / board_build.REPORT).write_text(json.dumps(CRITICAL_PATHS))
+    assert board_build.limiting_path(tmp_path) == {
+        "from": "arbiter.owner", "to": "NCO_FREQ", "steps": 2, "ns": 13.0}
+    assert board_build.limiting_path(tmp_path / "no build") is None
+    assert board_build.signal_of("demo.top.driver.leg0.count_next_TRELLIS_FF_Q_1") == \
         "top.driver.leg0.count_next"
 
 

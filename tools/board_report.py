@@ -83,7 +83,7 @@ def resources(board, directory: Path) -> dict:
     mhz, verdict, target = next(iter(tim["clocks"].values()))
     return {"luts": luts, "ffs": ffs, "logic": logic, "brams": brams, "plls": plls,
             "fmax": mhz, "verdict": verdict, "target": target,
-            "path": limiting_path((directory / f"{NAME}.tim").read_text())}
+            "path": limiting_path(directory)}
 
 
 def path_text(path: dict | None) -> str:
@@ -180,9 +180,10 @@ def _seed_fmax(job: tuple[str, int, bool]) -> tuple[str, int, float, dict | None
         # a placement that misses the clock fails the build; its log still gives the Fmax
         with contextlib.suppress(subprocess.CalledProcessError):
             build(name, out, seed)
-    text = (build_dir(name, out) / f"{NAME}.tim").read_text()
+    directory = build_dir(name, out)
+    text = (directory / f"{NAME}.tim").read_text()
     return name, seed, next(iter(parse_nextpnr_log(text)["clocks"].values()))[0], \
-        limiting_path(text)
+        limiting_path(directory)
 
 
 def splice(text: str, block: str) -> str:
