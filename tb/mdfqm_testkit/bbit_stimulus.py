@@ -1002,8 +1002,8 @@ class GeneratorRun(Waits):
             self.first_layout = kind == "first slot"
 
     def _update_started(self) -> None:
-        """What the update started in this clock takes: an instant on its rounding point with
-        a ``T`` beyond the integrators' range."""
+        """What the update started in this clock takes: an instant at its rounding point (on
+        it or a step below) while a ``T`` lies beyond the integrators' range."""
         if BeyondLinearRange.ROUNDING not in self.coverage.goals:
             return
         _, x, r, _, (mode, bits, _) = self.model.inflight
