@@ -538,7 +538,10 @@ class BeyondLinearRange(GeneratorSequence):
             deep = run.coverage.is_open(self.POINT)        # far out until both saturated
             run.stream.amplitude = rng.uniform(1.5 if deep else 1.0, 2.0) * run.linear
             run.stream.offset = rng.uniform(-0.5, 0.5)
-            yield from run.pace(self.POINT)
+            if run.coverage.is_open(self.ROUNDING):     # back to the aims soon
+                yield from run.updates(2)
+            else:
+                yield from run.pace(self.POINT)
 
     def aim_at_rounding(self):
         """One beat aimed at an open bin of :attr:`ROUNDING`: the stream stalled until the
