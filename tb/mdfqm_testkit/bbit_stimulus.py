@@ -116,17 +116,18 @@ def rounding_places(t, mode: int, bits: int, contract) -> set[str]:
     return {place for place, _ in rounding_legs(t, mode, bits, contract)}
 
 
-#: the offset each zero split measures the instants from, by twice gamma (docs/contract.md,
-#: "b-bit pulse-width resolution": ``2 C_i = g2 NF + (2 - g2) max(T) + g2 min(T) - 2 T_i``,
-#: so ``2 max(T)`` for dpwm0, ``max(T) + min(T)`` for svpwm, ``2 min(T)`` for dpwm1; dpwm
-#: takes the first or the last by its sector)
-OFFSETS = {0: "the dpwm0 offset", 1: "the svpwm offset", 2: "the dpwm1 offset"}
+#: twice gamma -> the mode whose zero split it is: each measures the instants from its own
+#: offset (docs/contract.md, "b-bit pulse-width resolution": ``2 C_i = g2 NF + (2 - g2)
+#: max(T) + g2 min(T) - 2 T_i``, so ``2 max(T)`` for dpwm0, ``max(T) + min(T)`` for svpwm,
+#: ``2 min(T)`` for dpwm1; dpwm takes the first or the last by its sector)
+OFFSETS = {gamma2_for(mode, ()): mode for mode in ("dpwm0", "svpwm", "dpwm1")}
 #: the sides of the integrators' range a leg's ``T = X + R`` can reach past (by up to R's
 #: bound: docs/contract.md, "Integrator bound")
 SIDES = ("below", "above")
 #: (twice gamma, side, place) -> the bin of ``BeyondLinearRange.ROUNDING``
-ROUNDING_BINS = {(g2, side, place): f"{OFFSETS[g2]}, a T {side} the range, an instant {place}"
-                 for g2 in OFFSETS for side in SIDES for place in ROUNDING_PLACES}
+ROUNDING_BINS = {
+    (g2, side, place): f"the {mode} offset, a T {side} the range, an instant {place}"
+    for g2, mode in OFFSETS.items() for side in SIDES for place in ROUNDING_PLACES}
 
 
 def sides_beyond(t, contract) -> set[str]:
@@ -559,7 +560,7 @@ class BeyondLinearRange(GeneratorSequence):
                 if ready and ROUNDING_BINS[key] in run.coverage.open_bins(self.ROUNDING)]
         rng.shuffle(aims)
         for g2, side, place in aims:
-            mode = MODES.index(OFFSETS[g2].split()[1])
+            mode = MODES.index(OFFSETS[g2])
             s.update(mode=mode, bits=bits, osr=1,
                      period=_period_for(rng, model, mode, bits, "at the minimum"))
             x = x_at_use(model, [0] * run.contract.phases,
