@@ -128,12 +128,10 @@ class Device:
 #: designs (exit status 1 without a message, or an assertion in its reintegration) or writes a
 #: net with two drivers, with or without ``-dff`` (flops inside ABC9's network), depending on the
 #: netlist's very names; the last one maps the LUTs with the classic ABC instead, every other
-#: step ``synth_ecp5``'s own. tb/test_postsynth.py tries the same ones.
-ECP5_FALLBACKS = (
-    "synth_ecp5 -dff",
-    "synth_ecp5 -run :map_luts; techmap -map +/lattice/latches_map.v; abc -lut 4; clean; "
-    "synth_ecp5 -run map_cells:",
-)
+#: step ``synth_ecp5``'s own. tb/test_postsynth.py tries plain ``synth_ecp5``, then the last.
+ECP5_CLASSIC_ABC = ("synth_ecp5 -run :map_luts; techmap -map +/lattice/latches_map.v; "
+                    "abc -lut 4; clean; synth_ecp5 -run map_cells:")
+ECP5_FALLBACKS = ("synth_ecp5 -dff", ECP5_CLASSIC_ABC)
 
 
 def with_top(synth: str, top: str) -> str:
