@@ -67,7 +67,8 @@ class LegDriver(wiring.Component):
     event : Out(1)
         Registered strobe, high in the cycle a turn-on of either switch becomes visible.
     in_min_pulse : Out(1)
-        Registered: the present state has lasted fewer than ``min_pulse`` clocks (an on switch
+        From registers (one of two, selected by a third; no logic of the inputs): the present
+        state has lasted fewer than ``min_pulse`` clocks (an on switch
         no longer commanded would be held on; the model's ``cnt + 1 < min_pulse_seen``).
 
     Parameters
@@ -110,19 +111,31 @@ class LegDriver(wiring.Component):
         # the decisions of a clock are flags computed in the clock before (the Fmax path)
         dead_seen = Signal(tw, reset_less=True)
         min_pulse_seen = Signal(tw, reset_less=True)
-        # what the count of clocks in the present on/off state plus one (the model's cnt + 1)
-        # becomes next clock if the state holds: the decisions need only this one; the count
-        # itself is the proofs' (built with formal=True only). It saturates at 2**tw - 1, not
-        # at the model's 2**tw: every decision compares it with a tw-bit value, for which the
-        # two answer alike, and the increment's carry out is the saturation test
-        count_next = Signal(tw, init=2)
+        # ``count_next``: what the count of clocks in the present on/off state plus one (the
+        # model's cnt + 1) becomes next clock if the state holds: the decisions need only this
+        # one; the count itself is the proofs' (built with formal=True only). It saturates at
+        # 2**tw - 1, not at the model's 2**tw: every decision compares it with a tw-bit value,
+        # for which the two answer alike, and the increment's carry out is the saturation test.
+        # A restart (a new state: count_next 2) is not muxed into the registers behind it: it
+        # is itself registered (``restarted``), and the count, the decisions and their compares
+        # run on as if held, the restart's values kept beside them and selected by it. So the
+        # late restart, decided by the fault and reaction logic, ends in one flop a leg, not in
+        # the count's 16 and the decisions' (the UP5K's Fmax path).
+        restarted = Signal(init=1, reset_less=True)
+        count_held = Signal(tw, reset_less=True)        # count_next unless restarted
+        count_next = Signal(tw)
+        m.d.comb += count_next.eq(Mux(restarted, 2, count_held))
         count_inc = Signal(tw + 1)
-        m.d.comb += count_inc.eq(count_next + 1)
+        m.d.comb += count_inc.eq(count_held + 1)
         dt_run = Signal(tw, reset_less=True)
-        # registered decisions: count >= max(dt_run, dead_seen, dead_min) (read while off only),
-        # count < min_pulse_seen
-        dead_elapsed = Signal(reset_less=True)
-        pulse_short = Signal(reset_less=True)
+        # the decisions, registered both ways (after a restart, and with the state held):
+        # count >= max(dt_run, dead_seen, dead_min) (read while off only), count < min_pulse_seen
+        elapsed_after_restart, elapsed_held = Signal(reset_less=True), Signal(reset_less=True)
+        short_after_restart, short_held = Signal(reset_less=True), Signal(reset_less=True)
+        dead_elapsed_now = Mux(restarted, elapsed_after_restart, elapsed_held)
+        pulse_short_now = Mux(restarted, short_after_restart, short_held)
+        dead_elapsed, pulse_short = Signal(), Signal()
+        m.d.comb += [dead_elapsed.eq(dead_elapsed_now), pulse_short.eq(pulse_short_now)]
         dt = Signal(tw)
         dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
         nxt_up, nxt_lo = Signal(), Signal()
@@ -133,7 +146,7 @@ class LegDriver(wiring.Component):
         on = Signal()
         m.d.comb += [on.eq(self.upper | self.lower), dt.eq(dt_expr)]
         # the next state while driven, written flat (the Fmax path runs from ``drive`` through
-        # the next state and ``restart`` into the counters): an on switch is kept while
+        # the next state into the gates and ``restarted``): an on switch is kept while
         # commanded or inside its minimum pulse, else turned off; from off, the commanded switch
         # turns on once the dead time has elapsed
         keep = Signal()
@@ -162,15 +175,23 @@ class LegDriver(wiring.Component):
         # a restart from on: dt_run of the next clock is dt (this one's)
         elapsed_restart, short_restart = decisions(1, Mux(on, dead_seen <= 1, dt_run <= 1))
         # a state held: dead_elapsed of an on state is never read (the next state of an on leg
-        # does not depend on it), so only an off state's matters, whose dt_run stays
-        elapsed_hold, short_hold = decisions(count_next, count_next >= dt_run)
+        # does not depend on it), so only an off state's matters, whose dt_run stays; the
+        # compares run on the held count, and on count 2 in the clock after a restart
+        elapsed_on_held, short_on_held = decisions(count_held, count_held >= dt_run)
+        elapsed_on_2, short_on_2 = decisions(2, dt_run <= 2)
+        elapsed_hold = Mux(restarted, elapsed_on_2, elapsed_on_held)
+        short_hold = Mux(restarted, short_on_2, short_on_held)
         m.d.sync += [
             self.upper.eq(nxt_up),
             self.lower.eq(nxt_lo),
             self.event.eq(~on & (nxt_up | nxt_lo)),
-            count_next.eq(Mux(restart, 2, Mux(count_inc[tw], top, count_inc[:tw]))),
-            dead_elapsed.eq(Mux(restart, elapsed_restart, elapsed_hold)),
-            pulse_short.eq(Mux(restart, short_restart, short_hold)),
+            restarted.eq(restart),
+            # after a restart the count held on is 3 (count_next 2 plus one)
+            count_held.eq(Mux(restarted, 3, Mux(count_inc[tw], top, count_inc[:tw]))),
+            elapsed_after_restart.eq(elapsed_restart),
+            elapsed_held.eq(elapsed_hold),
+            short_after_restart.eq(short_restart),
+            short_held.eq(short_hold),
             dead_seen.eq(self.dead),
             min_pulse_seen.eq(self.min_pulse),
         ]
@@ -185,8 +206,8 @@ class LegDriver(wiring.Component):
                              (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
             # soon as any of its inputs changes, before a comb signal has followed
-            self._invariants(m, dt_expr, count, count_next, dt_run, dead_elapsed, pulse_short,
-                             min_pulse_seen)
+            self._invariants(m, dt_expr, count, Mux(restarted, 2, count_held), dt_run,
+                             dead_elapsed_now, pulse_short_now, min_pulse_seen)
         return m
 
     def _invariants(self, m, dt, count, count_next, dt_run, dead_elapsed, pulse_short,
