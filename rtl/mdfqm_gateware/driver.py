@@ -123,8 +123,9 @@ class LegDriver(wiring.Component):
         # the count's 16 and the decisions' (the UP5K's Fmax path).
         restarted = Signal(init=1, reset_less=True)
         count_held = Signal(tw, reset_less=True)        # count_next unless restarted
+        count_next_now = Mux(restarted, 2, count_held)
         count_next = Signal(tw)
-        m.d.comb += count_next.eq(Mux(restarted, 2, count_held))
+        m.d.comb += count_next.eq(count_next_now)
         count_inc = Signal(tw + 1)
         m.d.comb += count_inc.eq(count_held + 1)
         dt_run = Signal(tw, reset_less=True)
@@ -206,8 +207,8 @@ class LegDriver(wiring.Component):
                              (asc_lo, asc_hi))
             # expressions of registers, not comb signals: the simulator evaluates an assert as
             # soon as any of its inputs changes, before a comb signal has followed
-            self._invariants(m, dt_expr, count, Mux(restarted, 2, count_held), dt_run,
-                             dead_elapsed_now, pulse_short_now, min_pulse_seen)
+            self._invariants(m, dt_expr, count, count_next_now, dt_run, dead_elapsed_now,
+                             pulse_short_now, min_pulse_seen)
         return m
 
     def _invariants(self, m, dt, count, count_next, dt_run, dead_elapsed, pulse_short,
