@@ -6,6 +6,7 @@ import json
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -161,6 +162,36 @@ def test_report_row_gives_the_median_and_the_minimum_over_the_seeds():
     assert ("Limiting paths (from -> to): icebreaker: the bitstream's arbiter.owner -> NCO_FREQ "
             "(8 logic steps); seeds 1, 3: arbiter.owner -> NCO_FREQ (8 logic steps); seed 2: "
             "top.driver.fault_sync.stage1 -> top.driver.leg0.count_next (9 logic steps).") in text
+
+
+def test_report_leaves_a_failed_seed_out_of_the_median_and_names_it():
+    board = boards.get("icebreaker")
+    resources = {"luts": 3500, "ffs": 2400, "logic": (4224, 5280), "brams": (1, 30),
+                 "plls": (1, 1), "fmax": 28.3, "verdict": "PASS", "target": 27.0,
+                 "path": None}
+    fmaxes = {1: 28.3, 2: 29.6, 3: "stopped after 20 min", 4: 27.5, 5: 29.3}
+    text = report.table([(board, resources, 113.0, fmaxes)], ["tools"], None, (1, 2, 3, 4, 5))
+    row = next(line for line in text.splitlines() if line.startswith("| icebreaker"))
+    # median of 27.5, 28.3, 29.3, 29.6
+    assert "| 28.8 / 27.5 (PASS, 4 of 5 seeds) |" in row
+    assert ("Seeds whose build failed or was stopped (not counted in the median and the "
+            "minimum): icebreaker seed 3 (stopped after 20 min).") in text
+    nothing = {s: "not routed to the end" for s in (1, 2, 3)}
+    text = report.table([(board, resources, 113.0, nothing)], ["tools"], None, (1, 2, 3))
+    assert "| 28.3 (PASS, +5 %) | - (no seed routed) | 113 |" in text
+
+
+def test_a_build_past_its_time_is_stopped_with_every_process_it_started(tmp_path):
+    # a build's tools run as grandchildren (Python -> Amaranth's script -> Yosys, nextpnr)
+    marker = tmp_path / "written by the grandchild"
+    grandchild = f"import time, pathlib; time.sleep(2); pathlib.Path({str(marker)!r}).touch()"
+    child = f"import subprocess, sys; subprocess.run([sys.executable, '-c', {grandchild!r}])"
+    with pytest.raises(report.BuildTimeoutError, match=r"stopped after 0\.01 min"):
+        report.run_bounded([sys.executable, "-c", child], 0.01)
+    time.sleep(3)
+    assert not marker.exists()
+    # within its time, the exit status is the command's
+    assert report.run_bounded([sys.executable, "-c", "raise SystemExit(3)"], 1) == 3
 
 
 def test_report_table_is_spliced_between_markers():

@@ -12,28 +12,32 @@ Fmax is nextpnr's post-route figure of the board's own build (its bitstream), an
 placement alone moves it by some per cent, the median and the minimum over the nextpnr seeds
 :data:`SEEDS` as well (each seed placed and routed again in ``build/boards-seeds/seed<k>/``;
 ``--seeds 1`` for a quick table); "build" is the wall time of synthesis + place and route +
-packing of the board's own build. Each placement's limiting path (nextpnr's critical path of
-the system clock: the signals it runs from and to, in the demo's hierarchy, ``top.`` the
-drop-in top) is listed under the table, so that prose names no path of its own.
+packing of the board's own build. A build that runs longer than ``--build-timeout`` (nextpnr's
+router can run on for most of an hour on a congested placement) is stopped: a seed's build
+then counts as failed, is left out of the median and the minimum and is named under the
+table, as ``make perf`` counts its seeds; the bitstream's build stops the report. Each
+placement's limiting path (nextpnr's critical path of the system clock: the signals it runs
+from and to, in the demo's hierarchy, ``top.`` the drop-in top) is listed under the table,
+so that prose names no path of its own.
 """
 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import datetime
 import json
 import os
 import re
+import signal
 import statistics
 import subprocess
 import sys
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ThreadPoolExecutor
 from importlib import metadata
 from pathlib import Path
 
 import boards
-from boards.build import NAME, build, build_dir, limiting_path, parse_nextpnr_log, use_yowasp
+from boards.build import NAME, REPORT, build_dir, limiting_path, parse_nextpnr_log, use_yowasp
 
 __all__ = [
     "DEFAULT_FILES",
@@ -52,6 +56,40 @@ ROOT = Path(__file__).resolve().parents[1]
 SEEDS = (1, 2, 3, 4, 5)
 BEGIN, END = "<!-- boards-report:begin -->", "<!-- boards-report:end -->"
 DEFAULT_FILES = ("README.md", "docs/boards.md")
+#: minutes one board build (synthesis, place and route, packing) may take before it is stopped
+BUILD_TIMEOUT = 20.0
+
+
+class BuildTimeoutError(RuntimeError):
+    """A board build ran out of its time (the placement's fault, not the design's)."""
+
+
+def run_bounded(cmd: list[str], minutes: float) -> int:
+    """Run ``cmd`` in its own process group, killed with every process it started after
+    ``minutes`` (:class:`BuildTimeoutError`); its exit status."""
+    with subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                          start_new_session=True) as process:
+        try:
+            return process.wait(timeout=minutes * 60)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+            raise BuildTimeoutError(f"stopped after {minutes:g} min") from None
+
+
+def build_bounded(name: str, out: Path | None, seed: int | None, minutes: float) -> Path:
+    """Build one board (``python -m boards.build``) within ``minutes`` (:func:`run_bounded`);
+    the build directory. A build that misses its clock exits non-zero and still leaves its
+    log: the caller reads what is there. The last build's log and report are removed first, so
+    that a build that stopped early is not read as done."""
+    directory = build_dir(name, out)
+    for stale in (f"{NAME}.tim", REPORT, "summary.json"):
+        (directory / stale).unlink(missing_ok=True)
+    cmd = [sys.executable, "-m", "boards.build", "--board", name]
+    cmd += ["--out", str(out)] if out is not None else []
+    cmd += ["--seed", str(seed)] if seed is not None else []
+    run_bounded(cmd, minutes)
+    return directory
 
 
 def parse_yosys_stat(text: str) -> dict:
@@ -151,14 +189,22 @@ def table(rows: list[tuple], versions: list[str], seed, seeds=(), paths=None) ->
              + " build s |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|" + ("---:|" if seeds else "")
              + "---:|"]
+    failed = []
     for board, r, seconds, by_seed in rows:
         margin = 100 * (r["fmax"] / r["target"] - 1)
         swept_cell = ""
         if seeds:
-            fmaxes = [by_seed[s] for s in seeds]
-            verdict = "PASS" if min(fmaxes) >= r["target"] else "FAIL on some seeds"
-            swept_cell = (f" {statistics.median(fmaxes):.1f} / {min(fmaxes):.1f} "
-                          f"({verdict}) |")
+            fmaxes = [by_seed[s] for s in seeds if isinstance(by_seed.get(s), float)]
+            failed += [f"{board.name} seed {s} ({by_seed.get(s) or 'no result'})"
+                       for s in seeds if not isinstance(by_seed.get(s), float)]
+            if not fmaxes:
+                swept_cell = " - (no seed routed) |"
+            else:
+                verdict = "PASS" if min(fmaxes) >= r["target"] else "FAIL on some seeds"
+                if len(fmaxes) < len(seeds):
+                    verdict += f", {len(fmaxes)} of {len(seeds)} seeds"
+                swept_cell = (f" {statistics.median(fmaxes):.1f} / {min(fmaxes):.1f} "
+                              f"({verdict}) |")
         lines.append(
             f"| {board.name} | {board.title.split('(')[-1].rstrip(')')} | "
             f"{board.sys_clk_hz / 1e6:g} | {r['luts']} | {r['ffs']} | "
@@ -166,24 +212,34 @@ def table(rows: list[tuple], versions: list[str], seed, seeds=(), paths=None) ->
             f"{r['brams'][0]} | {r['plls'][0]} | "
             f"{r['fmax']:.1f} ({r['verdict']}, {margin:+.0f} %) |{swept_cell} "
             f"{'-' if seconds is None else f'{seconds:.0f}'} |")
-    lines += ["", paths_note(rows, paths or {}), "", "Tools: " + "; ".join(versions) + ".",
-              END]
+    lines += ["", paths_note(rows, paths or {})]
+    if failed:
+        lines += ["", "Seeds whose build failed or was stopped (not counted in the median and "
+                  "the minimum): " + ", ".join(failed) + "."]
+    lines += ["", "Tools: " + "; ".join(versions) + ".", END]
     return "\n".join(lines)
 
 
-def _seed_fmax(job: tuple[str, int, bool]) -> tuple[str, int, float, dict | None]:
-    """Place and route one board with one seed (or read that build again): its Fmax and its
-    limiting path."""
-    name, seed, reuse = job
+def _seed_fmax(job: tuple[str, int, bool, float]) -> tuple[str, int, float | str,
+                                                          dict | None]:
+    """Place and route one board with one seed (or read that build again): its Fmax, or why
+    there is none, and its limiting path."""
+    name, seed, reuse, minutes = job
     out = ROOT / "build" / "boards-seeds" / f"seed{seed}"
-    if not reuse:
-        # a placement that misses the clock fails the build; its log still gives the Fmax
-        with contextlib.suppress(subprocess.CalledProcessError):
-            build(name, out, seed)
     directory = build_dir(name, out)
-    text = (directory / f"{NAME}.tim").read_text()
-    return name, seed, next(iter(parse_nextpnr_log(text)["clocks"].values()))[0], \
-        limiting_path(directory)
+    if not reuse:
+        try:
+            build_bounded(name, out, seed, minutes)
+        except BuildTimeoutError as stopped:
+            return name, seed, str(stopped), None
+    log = directory / f"{NAME}.tim"
+    # nextpnr writes its report when routing ends, missed clock or not: a log without it
+    # stopped before, and its last figure is the placement's estimate
+    clocks = (parse_nextpnr_log(log.read_text())["clocks"]
+              if log.exists() and (directory / REPORT).exists() else {})
+    if not clocks:
+        return name, seed, "not routed to the end", None
+    return name, seed, next(iter(clocks.values()))[0], limiting_path(directory)
 
 
 def splice(text: str, block: str) -> str:
@@ -207,17 +263,27 @@ def main(argv=None) -> int:
                         help="nextpnr seeds of the Fmax median / minimum; '' for none")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="seed builds run in parallel")
+    parser.add_argument("--build-timeout", type=float, default=BUILD_TIMEOUT, metavar="MIN",
+                        help="minutes a board build may take; a seed that takes longer is "
+                        "stopped and counted as failed (default %(default)g)")
     parser.add_argument("--files", nargs="*", default=list(DEFAULT_FILES),
                         help="files whose marked table is rewritten")
     args = parser.parse_args(argv)
+    if args.build_timeout <= 0:
+        parser.error("--build-timeout must be a positive number of minutes")
+    use_yowasp()
     seeds = tuple(int(s) for s in args.seeds.split(",") if s.strip())
     by_seed = {name: {} for name in args.boards}
     paths = {name: {} for name in args.boards}
     if seeds:
-        jobs = [(name, s, args.reuse) for name in args.boards for s in seeds]
-        with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        jobs = [(name, s, args.reuse, args.build_timeout) for name in args.boards for s in seeds]
+        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
             for name, seed, mhz, path in pool.map(_seed_fmax, jobs):
-                by_seed[name][seed], paths[name][seed] = mhz, path
+                by_seed[name][seed] = mhz
+                if isinstance(mhz, str):
+                    print(f"{name}: seed {seed} failed: {mhz}", flush=True)
+                    continue
+                paths[name][seed] = path
                 print(f"{name}: seed {seed} {mhz:.1f} MHz, {path_text(path)}", flush=True)
     rows = []
     for name in args.boards:
@@ -227,8 +293,15 @@ def main(argv=None) -> int:
             summary = directory / "summary.json"
             seconds = json.loads(summary.read_text())["seconds"] if summary.exists() else None
         else:
-            result = build(name, seed=args.seed)
-            directory, seconds = result["dir"], result["seconds"]
+            try:
+                directory = build_bounded(name, None, args.seed, args.build_timeout)
+            except BuildTimeoutError as stopped:
+                raise SystemExit(f"{name}: the bitstream's build {stopped} (--build-timeout)") \
+                    from None
+            summary = directory / "summary.json"
+            if not summary.exists():
+                raise SystemExit(f"{name}: the bitstream's build failed: see {directory}")
+            seconds = json.loads(summary.read_text())["seconds"]
         row = resources(board, directory)
         rows.append((board, row, seconds, by_seed[name]))
         print(f"{name}: {row['luts']} LUT4, {row['ffs']} FF, Fmax {row['fmax']:.1f} MHz "
