@@ -51,6 +51,7 @@ int mdfqm_init(mdfqm_t *dev, mdfqm_bus_t bus)
     dev->max_bits = FIELD(info, INFO, MAX_BITS);
     dev->modes = FIELD(info, INFO, MODES);
     dev->asc = FIELD(info, INFO, ASC) != 0u;
+    dev->watchdog = FIELD(info, INFO, WATCHDOG) != 0u;
     dev->dead_min = FIELD(rd(dev, MDFQM_TOP__DEAD_MIN_OFFSET), DEAD_MIN, DEAD_MIN);
     return 0;
 }

@@ -37,6 +37,7 @@ typedef struct {
     unsigned max_bits;       /* largest b of the slot modes; 0: the MDFQM-only top */
     unsigned modes;          /* modulation modes built in: MODULATION.MODE codes 0..modes-1 */
     bool asc;                /* the active short circuit built in (INFO.ASC) */
+    bool watchdog;           /* the reference watchdog built in (INFO.WATCHDOG) */
 } mdfqm_t;
 
 /* What the interrupt handler found (and acknowledged). */
@@ -102,7 +103,8 @@ bool mdfqm_clear_fault(const mdfqm_t *dev);
 /* The reference watchdog (docs/top.md, "Reference watchdog"): 0 turns it off (the reset value);
  * otherwise the update starts allowed without a new reference (a beat on the ref port or a
  * mdfqm_write_reference), saturated at 65535. The next start without one starts the watchdog's
- * fault reaction (every gate off by default) until mdfqm_clear_watchdog. */
+ * fault reaction (every gate off by default) until mdfqm_clear_watchdog. Without the watchdog
+ * built in (dev->watchdog false) the write stores 0: it never trips. */
 void mdfqm_set_watchdog(const mdfqm_t *dev, uint32_t updates);
 /* Clears the watchdog latch (gates resume at the next update boundary with the enable). */
 void mdfqm_clear_watchdog(const mdfqm_t *dev);

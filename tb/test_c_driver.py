@@ -85,8 +85,10 @@ def test_the_driver_did_its_job(run_log):
     for line in run_log:
         tag, *rest = line.split()
         tagged.setdefault(tag, []).append(rest)
-    ok, phases, width, latency, dead_min, max_bits, modes, asc = map(int, tagged["INIT"][0])
-    assert (ok, phases, width, dead_min, asc) == (0, p["phases"], p["width"], p["dead_min"], 1)
+    ok, phases, width, latency, dead_min, max_bits, modes, asc, watchdog = map(
+        int, tagged["INIT"][0])
+    assert (ok, phases, width, dead_min, asc, watchdog) == (0, p["phases"], p["width"],
+                                                            p["dead_min"], 1, 1)
     model = make_model(p)
     assert (latency, max_bits, modes) == (model.latency, model.max_bits, 5) and max_bits >= 3
     assert tagged["MODULATION"][0] == ["1", "3"], "SVPWM at b = 3 not in force"

@@ -190,24 +190,28 @@ SATURATION_COVER_OUT_OF_DEPTH = ("cd dut.core.integrator", "delete r:FLAVOR=cove
 TOP_PROOF = [pytest.mark.long_proof, pytest.mark.top_proof]
 
 
-@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks", "bus", "max_bits"), [
-    ("free", 3, 64, ("prove",), "wishbone", 8), ("free", 5, 64, ("prove",), "wishbone", 8),
-    ("free", 3, 2, ("prove", "cover"), "wishbone", 8),
-    ("free", 3, 2, ("prove", "cover"), "axi4lite", 8),
-    ("free", 3, 2, ("prove",), "wishbone", 0),
-    ("real", 3, 64, ("prove",), "wishbone", 2), ("real", 3, 64, ("prove",), "axi4lite", 2),
-    ("real", 3, 64, ("prove",), "wishbone", 0), ("real", 5, 64, ("prove",), "wishbone", 0),
-    ("real", 3, 2, ("cover",), "wishbone", 0),
-    pytest.param("real", 3, 64, ("prove",), "wishbone", 8, marks=TOP_PROOF),
-    pytest.param("real", 5, 64, ("prove",), "wishbone", 4, marks=TOP_PROOF),
-    pytest.param("real", 3, 2, ("cover",), "wishbone", 1, marks=pytest.mark.long_proof),
-    pytest.param("real", 5, 2, ("cover",), "wishbone", 0, marks=pytest.mark.long_proof)])
-def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_bits,
+@pytest.mark.parametrize(("core", "phases", "dead_min", "tasks", "bus", "max_bits", "watchdog"), [
+    ("free", 3, 64, ("prove",), "wishbone", 8, True),
+    ("free", 5, 64, ("prove",), "wishbone", 8, True),
+    ("free", 3, 2, ("prove", "cover"), "wishbone", 8, True),
+    ("free", 3, 2, ("prove", "cover"), "axi4lite", 8, True),
+    ("free", 3, 2, ("prove",), "wishbone", 0, False),    # the smallest build, no watchdog
+    ("real", 3, 64, ("prove",), "wishbone", 2, True),
+    ("real", 3, 64, ("prove",), "axi4lite", 2, True),
+    ("real", 3, 64, ("prove",), "wishbone", 0, True),
+    ("real", 5, 64, ("prove",), "wishbone", 0, True),
+    ("real", 3, 2, ("cover",), "wishbone", 0, True),
+    pytest.param("real", 3, 64, ("prove",), "wishbone", 8, True, marks=TOP_PROOF),
+    pytest.param("real", 5, 64, ("prove",), "wishbone", 4, True, marks=TOP_PROOF),
+    pytest.param("real", 3, 2, ("cover",), "wishbone", 1, True, marks=pytest.mark.long_proof),
+    pytest.param("real", 5, 2, ("cover",), "wishbone", 0, True, marks=pytest.mark.long_proof)])
+def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_bits, watchdog,
                                        monkeypatch):
     """k-induction over the whole top at the drop-in size (N = 3 and N = 5), with the real
     generator (or core, ``max_bits`` 0) and with a free one (any ``h``, ``update``, ``start``,
     stream ``ready``, mode in force in any clock: the driver's properties hold for any
-    behaviour, edges inside an update included). With the real generator or core the run also
+    behaviour, edges inside an update included; once without the watchdog, the smallest
+    build's). With the real generator or core the run also
     proves its properties in place, none of them assumed: the integrators never wrap, sort1 is
     a stable descending sort, sort2 picks the first maximum, the state is a candidate and the
     feedback its voltage, the mode and b in force are legal. Depth: sort1's latency + 2, so a
@@ -226,8 +230,10 @@ def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_b
     if core == "real" and max_bits:
         cover_depth = 48
     depth = {"prove": len(sorting_network(phases)) + 2, "cover": cover_depth}
-    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, bus=bus, max_bits=max_bits, formal=True),
-            f"top_{core}_n{phases}_dmin{dead_min}_{bus}_b{max_bits}", depth, tasks,
+    run_sby(MdfqmTop(phases, 16, dead_min=dead_min, bus=bus, max_bits=max_bits,
+                     watchdog=watchdog, formal=True),
+            f"top_{core}_n{phases}_dmin{dead_min}_{bus}_b{max_bits}{'' if watchdog else '_nowd'}",
+            depth, tasks,
             mutation=SATURATION_COVER_OUT_OF_DEPTH if core == "real" else ())
 
 

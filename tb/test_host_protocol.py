@@ -2,12 +2,13 @@
 and the CLI against the simulated device, and the simulated device's framing against the
 gateware bridge's cycle model (so the device the host is tested on behaves like the chip)."""
 
+import io
 import random
 from types import SimpleNamespace
 
 import pytest
 
-from mdfqm_host.cli import find_ports, main
+from mdfqm_host.cli import cmd_info, find_ports, main
 from mdfqm_host.client import BusError, Client, NoReplyError
 from mdfqm_host.device import TOP_MAP, Counters, DemoDevice, linear_limit
 from mdfqm_host.simdevice import SimulatedDevice
@@ -182,6 +183,21 @@ def test_device_rejects_bad_settings(call, message):
     with pytest.raises(ValueError) as info:
         call(DemoDevice(client))
     assert str(info.value) == message
+
+
+def test_a_bitstream_without_the_watchdog_says_so():
+    """INFO.WATCHDOG 0: info reads it, a timeout is refused (the gateware would store 0), and
+    0 (off) is still accepted."""
+    _, _, client = device(watchdog=False)
+    demo = DemoDevice(client)
+    assert not demo.info.watchdog and DemoDevice(device()[2]).info.watchdog
+    with pytest.raises(ValueError, match=r"not built in this bitstream \(INFO\.WATCHDOG 0\)"):
+        demo.set_watchdog(12)
+    demo.set_watchdog(0)
+    assert demo.status().watchdog == 0
+    out = io.StringIO()
+    cmd_info(demo, SimpleNamespace(port="sim://"), out)
+    assert "  watchdog   not built in\n" in out.getvalue()
 
 
 def test_counter_rates_wrap_modulo_2_32():

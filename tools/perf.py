@@ -734,13 +734,15 @@ class Variant:
 #: the area table's rows: the full top as the drop-in file has it, then one parameter changed
 #: at a time, so that each row's difference to the first is what that feature costs
 VARIANTS = (
-    Variant("full", "the drop-in top: max_bits 8, Wishbone, 32-bit counters, ASC", {}),
+    Variant("full", "the drop-in top: max_bits 8, Wishbone, 32-bit counters, ASC, watchdog",
+            {}),
     Variant("b4", "max_bits 4 (b <= 4: 16 slots at most)", {"max_bits": 4}),
     Variant("b0", "max_bits 0 (MDFQM only: no SVPWM / DPWM / b-bit)", {"max_bits": 0}),
     Variant("axil", "AXI4-Lite front instead of Wishbone", {"bus": "axi4lite"}),
     Variant("cw16", "counter_width 16 (switching counters)", {"counter_width": 16}),
     Variant("cw8", "counter_width 8", {"counter_width": 8}),
     Variant("noasc", "asc False (fault reaction all off only)", {"asc": False}),
+    Variant("nowd", "watchdog False (no reference watchdog)", {"watchdog": False}),
 )
 #: the device of the area table: the default board's
 AREA_DEVICE = "up5k"

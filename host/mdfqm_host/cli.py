@@ -126,8 +126,11 @@ def cmd_info(device: DemoDevice, args, out) -> None:
     print(f"  zero policy {s.zero_policy} (MDFQM)", file=out)
     print(f"  updates    {s.update_hz / 1e3:.3f} kHz, OSR {s.osr}", file=out)
     print(f"  dead time  {s.dead_ns:.0f} ns, minimum pulse {s.min_pulse_ns:.0f} ns", file=out)
-    watchdog = f"{s.watchdog} update starts" if s.watchdog else "off"
-    print(f"  watchdog   {watchdog}, {s.watchdog_trips} trips", file=out)
+    if i.watchdog:
+        watchdog = f"{s.watchdog} update starts" if s.watchdog else "off"
+        print(f"  watchdog   {watchdog}, {s.watchdog_trips} trips", file=out)
+    else:
+        print("  watchdog   not built in", file=out)
     reactions = "all off, ASC low, ASC high" if i.asc else "all off"
     print(f"  fault reactions built in: {reactions}", file=out)
 

@@ -75,6 +75,7 @@ class DeviceInfo:
     max_bits: int               # largest resolution b of the slot modes (0: MDFQM-only top)
     modes: int                  # modulation modes built in: MODULATIONS[:modes]
     asc: bool = False           # the active short circuit built in (INFO.ASC)
+    watchdog: bool = False      # the reference watchdog built in (INFO.WATCHDOG)
 
     @property
     def full(self) -> int:
@@ -138,7 +139,7 @@ class DemoDevice:
             acc_bits=acc_bits, top=True,
             max_bits=(top_info & top.INFO_MAX_BITS) >> top.INFO_MAX_BITS_SHIFT,
             modes=(top_info & top.INFO_MODES) >> top.INFO_MODES_SHIFT,
-            asc=bool(top_info & top.INFO_ASC))
+            asc=bool(top_info & top.INFO_ASC), watchdog=bool(top_info & top.INFO_WATCHDOG))
 
     # ---------------------------------------------------------------- conversions
     def _clocks(self, ns: float, name: str, maximum: int) -> int:
@@ -200,9 +201,13 @@ class DemoDevice:
         return mode, bits
 
     def set_watchdog(self, updates: int) -> None:
-        """Reference watchdog timeout in update starts (0: off)."""
+        """Reference watchdog timeout in update starts (0: off); refused here when this
+        bitstream does not have the watchdog (the gateware would store 0)."""
         if not 0 <= updates <= 0xFFFF:
             raise ValueError(f"watchdog must be in [0, 65535] update starts, not {updates}")
+        if updates and not self.info.watchdog:
+            raise ValueError("the reference watchdog is not built in this bitstream "
+                             "(INFO.WATCHDOG 0)")
         self.client.write(self.map.watchdog, updates)
 
     def clear_watchdog(self) -> None:

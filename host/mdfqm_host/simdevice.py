@@ -42,7 +42,7 @@ class SimulatedDevice:
     """
 
     def __init__(self, clk_hz=18_000_000, phases=3, width=16, acc_bits=32,
-                 clock=time.monotonic, frame_timeout=0.003, max_bits=8):
+                 clock=time.monotonic, frame_timeout=0.003, max_bits=8, watchdog=True):
         self.clk_hz, self.phases, self.width, self.acc_bits = clk_hz, phases, width, acc_bits
         self.clock, self.frame_timeout = clock, frame_timeout
         self.map = TOP_MAP
@@ -54,12 +54,12 @@ class SimulatedDevice:
         self.log = []                         # (cmd, addr, data, status) of executed requests
         m = self.map
         latency = loop_latency(phases, "largest_duty")
-        self.max_bits = max_bits
+        self.max_bits, self.watchdog = max_bits, watchdog
         self.regs = {m.ctrl: 0, m.period: latency, m.osr: 1, m.dead: 64, m.min_pulse: 0,
                      m.dead_min: 64, TOP_BASE + top.ID: top.ID_VALUE, m.modulation: 0,
                      m.watchdog: 0, m.watchdog_trips: 0,
                      m.info: info_word(phases, width, "largest_duty", False, False, latency,
-                                       max_bits, asc=True)}
+                                       max_bits, asc=True, watchdog=watchdog)}
         self.fault = False
         self.demo_regs = {"NCO_FREQ": round(50 * (1 << acc_bits) / clk_hz),
                           "NCO_AMP": 1 << (width - 3)}
@@ -182,7 +182,7 @@ class SimulatedDevice:
                 self.regs[addr] = (mode << top.MODULATION_MODE_SHIFT
                                    | bits << top.MODULATION_BITS_SHIFT)
             elif addr == m.watchdog:
-                self.regs[addr] = min(data, 0xFFFF)
+                self.regs[addr] = min(data, 0xFFFF) * self.watchdog
             elif addr in (m.ctrl, m.period, m.osr, m.dead, m.min_pulse):
                 limit = {m.ctrl: 3, m.period: 0xFFFF, m.osr: 0xFF}.get(addr, m.time_max)
                 value = min(data, limit) if addr != m.ctrl else data & 3

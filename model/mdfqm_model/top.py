@@ -88,7 +88,9 @@ Per-cycle behaviour (registers reset synchronously; see also the two sub-models)
   ``IRQ_STATUS.WATCHDOG`` is set. The latch is the driver's ``stop``: every gate off in the cycle
   after the latch is set (two after the tripping start ``s``: ``s + 2``), and the taken enable
   cleared; ``CMD.WATCHDOG_CLEAR`` clears it (gates resume at the next update boundary with
-  ``CTRL.ENABLE``), after which the count starts again from 0.
+  ``CTRL.ENABLE``), after which the count starts again from 0. Without the watchdog built in
+  (``watchdog`` False; ``INFO.WATCHDOG``) ``WATCHDOG`` and ``FAULT_REACTION.WATCHDOG`` store 0,
+  so it never trips.
 - ADC trigger: ``elapsed = 0 if start else cnt``; ``cnt <= (elapsed + 1) mod 2**16``;
   ``adc_trigger <= elapsed == ADC_OFFSET``. So the pulse is in cycle ``s + 1 + ADC_OFFSET``,
   ``s`` the update start, and there is none when ``ADC_OFFSET >= P`` (the update period).
@@ -287,9 +289,10 @@ class TopModel:
                  dead_min: int = DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, bus: str = "wishbone",
                  counter_width: int = COUNTER_WIDTH, max_bits: int | None = None,
-                 asc: bool = True):
+                 asc: bool = True, watchdog: bool = True):
         validate_top_phases(phases)
         self.asc = validate_bool(asc, "asc")
+        self.watchdog = validate_bool(watchdog, "watchdog")
         self.counter_width = validate_int(counter_width, "counter_width", 8, COUNTER_WIDTH)
         self.front = FRONTS[validate_bus(bus)](phases)
         validate_dead_min(dead_min, TIME_WIDTH)
@@ -306,7 +309,7 @@ class TopModel:
         self.contract = self.core.contract
         self.long_latency = self.core.long_latency if max_bits else self.latency
         self.info = info_word(phases, width, rule, upper_active_low, lower_active_low,
-                              self.latency, max_bits, asc=asc)
+                              self.latency, max_bits, asc=asc, watchdog=watchdog)
         self.reset()
 
     def reset(self) -> None:
@@ -417,11 +420,12 @@ class TopModel:
         elif address == IRQ_STATUS:
             self.irq_status &= ~value
         elif address == WATCHDOG:
-            self.wd_timeout = min(value, 0xFFFF)
+            self.wd_timeout = min(value, 0xFFFF) * self.watchdog
         elif address == FAULT_REACTION:
-            # each field: 3 stores 0, and so does an ASC code when none is built in
+            # each field: 3 stores 0, and so does an ASC code when none is built in, and any
+            # watchdog reaction without the watchdog
             fault = (value >> FAULT_REACTION_FAULT_SHIFT) % 4 % 3 * self.asc
-            watchdog = (value >> FAULT_REACTION_WATCHDOG_SHIFT) % 4 % 3 * self.asc
+            watchdog = (value >> FAULT_REACTION_WATCHDOG_SHIFT) % 4 % 3 * self.asc * self.watchdog
             self.fault_reaction = (fault << FAULT_REACTION_FAULT_SHIFT
                                    | watchdog << FAULT_REACTION_WATCHDOG_SHIFT)
         elif address == MODULATION:

@@ -74,10 +74,11 @@ def test_reset_values_and_read_only_registers():
 
 def test_info_word_flags():
     m = TopModel(5, 18, "exact_nearest", 3, upper_active_low=True, lower_active_low=False)
-    assert m.info == (5 | 18 << 5 | 1 << 11 | 1 << 12 | 1 << 14 | m.latency << 16 | 8 << 24
-                      | 5 << 28)
-    m = TopModel(3, 16, max_bits=0, asc=False)
+    assert m.info == (5 | 18 << 5 | 1 << 11 | 1 << 12 | 1 << 14 | 1 << 15 | m.latency << 16
+                      | 8 << 24 | 5 << 28)
+    m = TopModel(3, 16, max_bits=0, asc=False, watchdog=False)
     assert m.info == 3 | 16 << 5 | m.latency << 16 | 1 << 28
+    assert TopModel(3, 16, max_bits=0, asc=False).info == m.info | 1 << 15
     assert TopModel(3, 16, max_bits=3).info >> 24 == 3 | 5 << 4
 
 
@@ -609,6 +610,32 @@ def test_watchdog_trips_at_the_timeout_plus_first_quiet_start_and_stops_the_gate
     assert bus.read(regs.WATCHDOG_TRIPS) == 1
     bus.write(regs.CMD, regs.CMD_COUNT_CLEAR)
     assert bus.read(regs.WATCHDOG_TRIPS) == 0
+
+
+def test_watchdog_not_built_in_never_trips():
+    """Hand-derived from docs/top.md, "Reference watchdog", without the watchdog built in:
+    INFO.WATCHDOG 0, a WATCHDOG write stores 0 and so does FAULT_REACTION.WATCHDOG; the
+    references stop and the gates go on switching, with STATUS.WATCHDOG, WATCHDOG_TRIPS and
+    IRQ_STATUS.WATCHDOG 0."""
+    m = TopModel(3, 16, dead_min=2, max_bits=0, watchdog=False)
+    bus = Master(m)
+    assert not bus.read(regs.INFO) & regs.INFO_WATCHDOG
+    assert TopModel(3, 16).info & regs.INFO_WATCHDOG
+    bus.write(regs.PERIOD, 20)
+    bus.write(regs.CTRL, regs.CTRL_ENABLE)
+    bus.write(regs.IRQ_ENABLE, regs.IRQ_WATCHDOG)
+    bus.write(regs.FAULT_REACTION, 1 << regs.FAULT_REACTION_WATCHDOG_SHIFT | 1)
+    assert bus.read(regs.FAULT_REACTION) == 1           # the fault's reaction is kept
+    bus.run(100, ref_valid=1, ref=[3000, -1000, -2000])
+    bus.write(regs.WATCHDOG, 1)
+    assert bus.read(regs.WATCHDOG) == 0
+    written = len(bus.log)
+    bus.run(200)                                        # ten updates without a reference
+    assert len(set(bus.up[written:])) > 1, "the gates stopped switching"
+    assert not bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
+    assert bus.read(regs.WATCHDOG_TRIPS) == 0 and not bus.read(regs.IRQ_STATUS) & regs.IRQ_WATCHDOG
+    bus.write(regs.CMD, regs.CMD_WATCHDOG_CLEAR)        # nothing to clear: nothing changes
+    assert not bus.read(regs.STATUS) & regs.STATUS_WATCHDOG
 
 
 def test_watchdog_off_and_fed_never_trips():

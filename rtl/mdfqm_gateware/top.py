@@ -5,7 +5,7 @@ front + switching counters + ADC trigger + reference watchdog. Every bit on ever
 imported from :mod:`mdfqm_spec.regmap` and documented in ``docs/top.md``.
 """
 
-from amaranth import Cat, Module, Mux, ResetSignal, Signal, signed
+from amaranth import C, Cat, Module, Mux, ResetSignal, Signal, signed
 from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
@@ -139,6 +139,12 @@ class MdfqmTop(wiring.Component):
     asc : bool
         Build the active short circuit in (``FAULT_REACTION`` codes 1 and 2, ``INFO.ASC``);
         False: the only fault reaction is all off (those codes store 0).
+    watchdog : bool
+        Build the reference watchdog in (``WATCHDOG``, ``WATCHDOG_TRIPS``, ``INFO.WATCHDOG``);
+        False: it never trips (``WATCHDOG`` and ``FAULT_REACTION.WATCHDOG`` store 0,
+        ``WATCHDOG_TRIPS``, ``STATUS.WATCHDOG`` and ``IRQ_STATUS.WATCHDOG`` stay 0,
+        ``CMD.WATCHDOG_CLEAR`` does nothing), for a design whose references cannot stop or
+        that watches them itself.
     max_bits : int, 0 or in [1, min(12, width - 2)]; default min(8, width - 2)
         Largest resolution b of the slot modes (SVPWM, DPWM0, DPWM1, DPWM: ``2**b`` slots per
         update). 0 builds the MDFQM-only top (the core alone, the smallest): ``MODULATION``
@@ -159,9 +165,11 @@ class MdfqmTop(wiring.Component):
                  dead_min: int = regmap.DEFAULT_DEAD_MIN, upper_active_low: bool = False,
                  lower_active_low: bool = False, bus: str = "wishbone",
                  counter_width: int = regmap.COUNTER_WIDTH,
-                 max_bits: int | None = None, asc: bool = True, formal: bool = False):
+                 max_bits: int | None = None, asc: bool = True, watchdog: bool = True,
+                 formal: bool = False):
         validate_top_phases(phases)
         self.asc = validate_bool(asc, "asc")
+        self.watchdog = validate_bool(watchdog, "watchdog")
         self.bus = validate_bus(bus)
         self.counter_width = validate_int(counter_width, "counter_width", 8,
                                           regmap.COUNTER_WIDTH)
@@ -274,31 +282,39 @@ class MdfqmTop(wiring.Component):
             m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF))
         with m.If(written(regmap.IRQ_ENABLE)):
             m.d.sync += irq_enable.eq(word[:irq_bits])
-        with m.If(written(regmap.WATCHDOG)):
-            m.d.sync += wd_timeout.eq(_saturate(word, 0xFFFF))
+        if self.watchdog:   # else WATCHDOG and WATCHDOG_TRIPS read 0: it never trips
+            with m.If(written(regmap.WATCHDOG)):
+                m.d.sync += wd_timeout.eq(_saturate(word, 0xFFFF))
         with m.If(written(regmap.MODULATION)):
             m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
         if self.asc:        # else both read 0: every reaction is all off
             with m.If(written(regmap.FAULT_REACTION)):
-                m.d.sync += [reaction_fault.eq(word[0:2]), reaction_watchdog.eq(word[2:4])]
+                m.d.sync += reaction_fault.eq(word[0:2])
+                if self.watchdog:
+                    m.d.sync += reaction_watchdog.eq(word[2:4])
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
                 m.d.sync += ref_regs[i].eq(_saturate_code(word, c))
 
         mode_clamped, mode_in_force, bits_in_force = self._modulation(
             m, core, mode_request, bits_request)
-        # a reference seen by the watchdog the clock after it arrives: off the bus-decode path
-        arrival = Signal()
-        m.d.sync += arrival.eq((self.ref.valid & self.ref.ready) | ref_commit)
-        wd_tripped, wd_trip, wd_quiet = self._watchdog(m, core.start, arrival, wd_timeout,
-                                                       wd_trips, watchdog_clear, count_clear)
+        if self.watchdog:
+            # a reference seen by the watchdog the clock after it arrives: off the bus-decode
+            # path
+            arrival = Signal()
+            m.d.sync += arrival.eq((self.ref.valid & self.ref.ready) | ref_commit)
+            wd_tripped, wd_trip, wd_quiet = self._watchdog(m, core.start, arrival, wd_timeout,
+                                                           wd_trips, watchdog_clear, count_clear)
+        else:
+            wd_tripped, wd_trip = C(0, 1), C(0, 1)
         rd = Signal(32)
         status = Cat(driver.fault, driver.fault_input, driver.active, ref_pending,
                      core.saturated, core.period_clamped, mode_clamped, wd_tripped,
                      driver.reaction)
         info = info_word(n, self.width, self.rule, self.upper_active_low,
-                         self.lower_active_low, self.latency, self.max_bits, asc=self.asc)
+                         self.lower_active_low, self.latency, self.max_bits, asc=self.asc,
+                         watchdog=self.watchdog)
         with m.Switch(port.r_adr):
             with m.Case(regmap.ID):
                 m.d.comb += rd.eq(regmap.ID_VALUE)
@@ -415,8 +431,10 @@ class MdfqmTop(wiring.Component):
             m.d.comb += Assert((driver.reaction_fault_acted != 3)
                                & (driver.reaction_watchdog_acted != 3),
                                "FAULT_REACTION reads a code that is no reaction")
-            self._watchdog_properties(m, core.start, arrival, wd_timeout, (wd_tripped, wd_quiet,
-                                      wd_trips), (watchdog_clear, count_clear), driver)
+            if self.watchdog:
+                self._watchdog_properties(m, core.start, arrival, wd_timeout,
+                                          (wd_tripped, wd_quiet, wd_trips),
+                                          (watchdog_clear, count_clear), driver)
             if self.max_bits:
                 self._mode_covers(m, core, driver)
             irq_was = Signal(reset_less=True)       # IRQ_STATUS & IRQ_ENABLE, a clock ago

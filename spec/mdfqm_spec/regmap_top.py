@@ -69,6 +69,8 @@ __all__ = [
     "INFO_RULE_SHIFT",
     "INFO_UPPER_ACTIVE_LOW",
     "INFO_UPPER_ACTIVE_LOW_SHIFT",
+    "INFO_WATCHDOG",
+    "INFO_WATCHDOG_SHIFT",
     "INFO_WIDTH",
     "INFO_WIDTH_SHIFT",
     "IRQ_ENABLE",
@@ -149,6 +151,7 @@ PARAMETERS = {
     "latency": 8,
     "modes": 5,
     "asc": True,
+    "watchdog": True,
 }
 #: word-address bits of the bus: the fewest that hold every register
 ADDR_WIDTH = 6
@@ -189,13 +192,15 @@ INFO_LOWER_ACTIVE_LOW = 0x00002000
 INFO_LOWER_ACTIVE_LOW_SHIFT = 13
 INFO_ASC = 0x00004000
 INFO_ASC_SHIFT = 14
+INFO_WATCHDOG = 0x00008000
+INFO_WATCHDOG_SHIFT = 15
 INFO_LATENCY = 0x00FF0000
 INFO_LATENCY_SHIFT = 16
 INFO_MAX_BITS = 0x0F000000
 INFO_MAX_BITS_SHIFT = 24
 INFO_MODES = 0xF0000000
 INFO_MODES_SHIFT = 28
-INFO_MASK = 0xFFFF7FFF
+INFO_MASK = 0xFFFFFFFF
 
 # CTRL fields
 CTRL_ENABLE = 0x00000001
@@ -332,6 +337,8 @@ REGISTERS = (
              "reset": "lower_active_low"},
             {"name": "ASC", "lsb": 14, "width": 1, "access": "r", "reset": "asc",
              "doc": "1 = the active short circuit is built in (FAULT_REACTION codes 1 and 2)"},
+            {"name": "WATCHDOG", "lsb": 15, "width": 1, "access": "r", "reset": "watchdog",
+             "doc": "1 = the reference watchdog is built in (WATCHDOG)"},
             {"name": "LATENCY", "lsb": 16, "width": 8, "access": "r", "reset": "latency",
              "doc": "loop latency L (MDFQM updates)"},
             {"name": "MAX_BITS", "lsb": 24, "width": 4, "access": "r", "reset": "max_bits",
@@ -646,18 +653,19 @@ REGISTERS = (
         "access": "RW",
         "width": 16,
         "reset": "0",
-        "clamp": "min(v, 65535)",
+        "clamp": "min(v, 65535) * watchdog",
         "doc": (
             "reference watchdog timeout (update starts). 0: off (the reset value). Otherwise the "
             "update starts allowed without a new reference (a beat accepted on the ref port, or a "
             "CMD.REF_COMMIT write): the next update start without one trips the watchdog "
             "(STATUS.WATCHDOG; the fault reaction from two clocks after that start, as on a fault, "
-            "until CMD.WATCHDOG_CLEAR). docs/top.md, Reference watchdog."
+            "until CMD.WATCHDOG_CLEAR). Without the watchdog built in (INFO.WATCHDOG 0) a write "
+            "stores 0: it never trips. docs/top.md, Reference watchdog."
         ),
         "count": 1,
         "fields": (
             {"name": "TIMEOUT", "lsb": 0, "width": 16, "access": "rw", "reset": 0,
-             "clamp": "min(v, 65535)"},
+             "clamp": "min(v, 65535) * watchdog"},
         ),
     },
     {
@@ -679,12 +687,13 @@ REGISTERS = (
         "access": "RW",
         "width": 4,
         "reset": "0",
-        "clamp": "FAULT: v % 4 % 3 * asc; WATCHDOG: v % 4 % 3 * asc",
+        "clamp": "FAULT: v % 4 % 3 * asc; WATCHDOG: v % 4 % 3 * asc * watchdog",
         "doc": (
             "fault reaction per source. What the gates do while a latch is set: 0 all off (the "
             "reset value), 1 active short circuit low (the lower switches on), 2 active short "
             "circuit high (the upper ones on); 3, or 1 and 2 without the active short circuit "
-            "built in (INFO.ASC 0), store 0. Taken when the gates leave normal operation: a later "
+            "built in (INFO.ASC 0), store 0; so does any value in WATCHDOG without the watchdog "
+            "built in (INFO.WATCHDOG 0). Taken when the gates leave normal operation: a later "
             "write does not change a reaction in force (STATUS.REACTION). docs/top.md, Fault "
             "reaction."
         ),
@@ -693,7 +702,7 @@ REGISTERS = (
             {"name": "FAULT", "lsb": 0, "width": 2, "access": "rw", "reset": 0,
              "clamp": "v % 4 % 3 * asc", "doc": "reaction to the fault latch"},
             {"name": "WATCHDOG", "lsb": 2, "width": 2, "access": "rw", "reset": 0,
-             "clamp": "v % 4 % 3 * asc", "doc": "reaction to the watchdog latch"},
+             "clamp": "v % 4 % 3 * asc * watchdog", "doc": "reaction to the watchdog latch"},
         ),
     },
 )

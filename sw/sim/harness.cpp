@@ -108,8 +108,8 @@ int main(int argc, char **argv) {
     mdfqm_t dev;
     mdfqm_bus_t bus = {bus_read, bus_write, &sim};
     int ok = mdfqm_init(&dev, bus);
-    std::fprintf(sim.log, "INIT %d %u %u %u %u %u %u %d\n", ok, dev.phases, dev.width,
-                 dev.latency, dev.dead_min, dev.max_bits, dev.modes, dev.asc);
+    std::fprintf(sim.log, "INIT %d %u %u %u %u %u %u %d %d\n", ok, dev.phases, dev.width,
+                 dev.latency, dev.dead_min, dev.max_bits, dev.modes, dev.asc, dev.watchdog);
     // a motor above the back-EMF threshold: the fault pin's reaction is ASC low, the watchdog's
     // stays all off
     mdfqm_set_fault_reaction(&dev, MDFQM_SOURCE_FAULT, MDFQM_REACTION_ASC_LOW);

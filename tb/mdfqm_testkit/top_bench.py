@@ -47,7 +47,7 @@ def make_model(p):
     return TopModel(p["phases"], p["width"], p["rule"], p["dead_min"], p["upper_active_low"],
                     p["lower_active_low"], bus=p.get("bus", "wishbone"),
                     counter_width=p.get("counter_width", 32), max_bits=p.get("max_bits"),
-                    asc=p.get("asc", True))
+                    asc=p.get("asc", True), watchdog=p.get("watchdog", True))
 
 
 

@@ -1024,6 +1024,10 @@ class Watchdog(TopSequence):
     OCTAVES = "tripped at a TIMEOUT in"
 
     @classmethod
+    def applies(cls, run) -> bool:
+        return run.model.watchdog
+
+    @classmethod
     def octave_edges(cls, run) -> tuple[int, ...]:
         """Octaves of TIMEOUT that trip (each sets its bit of the quiet count the trip needs),
         to 2**8, in runs long enough for their quiet updates (none in shorter ones)."""
@@ -1081,6 +1085,41 @@ class Watchdog(TopSequence):
                               run.read(regs.STATUS))
 
 
+class WatchdogNotBuiltIn(TopSequence):
+    """Without the watchdog built in: WATCHDOG written non-zero stores 0 (read back), the
+    reference stream stalls for more update starts than the value written and nothing trips
+    (STATUS, WATCHDOG_TRIPS read), CMD.WATCHDOG_CLEAR changes nothing."""
+
+    rules = (doc(TOP_MD, "Reference watchdog"), rdl("WATCHDOG.TIMEOUT", clamp=True),
+             rdl("INFO.WATCHDOG"), rdl("CMD.WATCHDOG_CLEAR"), rdl("STATUS.WATCHDOG"))
+    claims = frozenset({WATCHDOG, STREAM, REF, PERIOD, MODULATION})
+    POINT = "watchdog not built in"
+
+    @classmethod
+    def applies(cls, run) -> bool:
+        return not run.model.watchdog
+
+    @classmethod
+    def coverpoints(cls, run):
+        return {cls.POINT: ("WATCHDOG written non-zero", "more update starts without a "
+                            "reference than WATCHDOG written", "CMD.WATCHDOG_CLEAR written")}
+
+    def body(self):
+        run, rng = self.run, self.rng
+        timeout = rng.randint(1, 3)
+        period = rng.randint(20, 40)
+        settings = [run.write(regs.PERIOD, period), run.write(regs.WATCHDOG, timeout)]
+        if run.model.max_bits:      # MDFQM's short updates: the stall lasts a few of them
+            settings.append(run.write(regs.MODULATION, run.modulation_word(mode=0)))
+        yield from run.settle(*settings, run.read(regs.WATCHDOG))
+        run.stream.stalled = True
+        yield from run.wait((timeout + 3) * (run.update_clocks(period) + 8))
+        yield from run.settle(run.read(regs.STATUS), run.read(regs.WATCHDOG_TRIPS),
+                              run.command(regs.CMD_WATCHDOG_CLEAR), run.read(regs.STATUS))
+        run.stream.stalled = False
+        yield from run.settle(run.restore(regs.WATCHDOG, regs.PERIOD, regs.MODULATION))
+
+
 class FaultReaction(TopSequence):
     """FAULT_REACTION per source (all off, ASC low, ASC high): the fault or a watchdog trip
     enters it through the dead time; FAULT_REACTION rewritten while in force changes nothing;
@@ -1096,13 +1135,18 @@ class FaultReaction(TopSequence):
 
     @classmethod
     def coverpoints(cls, run):
-        if not run.model.asc:
-            return {cls.POINT: ("all off (fault)", "all off (watchdog)")}
-        return {cls.POINT: ("ASC low (fault)", "ASC high (fault)", "ASC low (watchdog)",
-                            "ASC high (watchdog)", "all off (fault)", "all off (watchdog)",
+        model = run.model
+        # the watchdog is the second source, when it is built in
+        sources = ("fault", "watchdog") if model.watchdog else ("fault",)
+        if not model.asc:
+            return {cls.POINT: tuple(f"all off ({source})" for source in sources)}
+        return {cls.POINT: (*(f"ASC {side} ({source})" for source in sources
+                              for side in ("low", "high")),
+                            *(f"all off ({source})" for source in sources),
                             "rewritten while an ASC is in force"),
                 cls.LEFT: ("by CMD.ALL_OFF", "by the clear",
-                           "by a second source whose reaction is all off")}
+                           *(("by a second source whose reaction is all off",)
+                             if model.watchdog else ()))}
 
     def body(self):
         run, rng = self.run, self.rng
@@ -1171,13 +1215,15 @@ class IrqService(TopSequence):
     @classmethod
     def sources(cls, run):
         wrap = run.wrap_reachable()
-        return [name for name in IRQ_SOURCES if name != "COUNTER_WRAP" or wrap]
+        return [name for name in IRQ_SOURCES if (name != "COUNTER_WRAP" or wrap)
+                and (name != "WATCHDOG" or run.model.watchdog)]
 
     @classmethod
     def coverpoints(cls, run):
         sources = cls.sources(run)
         return {cls.SET: tuple(sources), cls.RAISED: tuple(sources),
-                cls.SAME_CLOCK: cls.SAME_CLOCK_SOURCES,
+                cls.SAME_CLOCK: tuple(name for name in cls.SAME_CLOCK_SOURCES
+                                      if name in sources),
                 cls.UNDEFINED: ("IRQ_ENABLE", "IRQ_STATUS")}
 
     def __init__(self, run):
@@ -1370,8 +1416,8 @@ class Identification(TopSequence):
     """ID, INFO and DEAD_MIN read, written (ignored) and read again."""
 
     rules = (rdl("ID.ID"), *(rdl(f"INFO.{f}") for f in (
-        "PHASES", "WIDTH", "RULE", "UPPER_ACTIVE_LOW", "LOWER_ACTIVE_LOW", "ASC", "LATENCY",
-        "MAX_BITS", "MODES")), rdl("DEAD_MIN.DEAD_MIN"))
+        "PHASES", "WIDTH", "RULE", "UPPER_ACTIVE_LOW", "LOWER_ACTIVE_LOW", "ASC", "WATCHDOG",
+        "LATENCY", "MAX_BITS", "MODES")), rdl("DEAD_MIN.DEAD_MIN"))
     POINT = "identification"
 
     @classmethod

@@ -214,7 +214,8 @@ class TopRun(Waits):
         self.model = TopModel(phases, width, component.rule, component.dead_min,
                               component.upper_active_low, component.lower_active_low,
                               bus=component.bus, counter_width=component.counter_width,
-                              max_bits=component.max_bits, asc=component.asc)
+                              max_bits=component.max_bits, asc=component.asc,
+                              watchdog=component.watchdog)
         self.axi = component.bus == "axi4lite"
         self.inputs, self.outputs = ports_of(component)
         self.stim = {port: [] for port, _ in self.inputs}
@@ -621,9 +622,28 @@ class Monitor:
         self.dead_written = False
         #: an update has saturated since the last reset (the integrators held once)
         self.saturated_since_reset = False
+        #: without the watchdog built in: the last WATCHDOG written (as its clamp would store
+        #: it with one) and the update starts since a reference last arrived
+        self.timeout_written, self.starts_without_reference = 0, 0
 
     def hit(self, point, bin_):
         self.run.coverage.hit(point, bin_)
+
+    def _watchdog_not_built_in(self, start, beat, write) -> None:
+        point = seq.WatchdogNotBuiltIn.POINT
+        if write is not None and write[0] == regs.WATCHDOG:
+            self.timeout_written = min(write[1], 0xFFFF)
+            if self.timeout_written:
+                self.hit(point, "WATCHDOG written non-zero")
+        commit = write is not None and write[0] == regs.CMD and write[1] & regs.CMD_REF_COMMIT
+        if beat or commit:
+            self.starts_without_reference = 0
+        elif start:
+            self.starts_without_reference += 1
+            if 0 < self.timeout_written < self.starts_without_reference:
+                self.hit(point, "more update starts without a reference than WATCHDOG written")
+        if write is not None and write[0] == regs.CMD and write[1] & regs.CMD_WATCHDOG_CLEAR:
+            self.hit(point, "CMD.WATCHDOG_CLEAR written")
 
     # --------------------------------------------------------------------- before the step
     def before(self, bus, write, read, valid, payload) -> dict:
@@ -654,6 +674,8 @@ class Monitor:
                                     and not driver.fault_prev),
                  "stop_rise": bool(m.wd_tripped and not driver.stop_prev),
                  "left_normal": not (driver.fault_prev or driver.stop_prev)}
+        if not m.watchdog:
+            self._watchdog_not_built_in(start, beat, write)
         if run.fault_in != self.last_fault_in:
             self.fault_edges.append(run.cycle)
             if len(self.fault_edges) >= 3 and self.fault_edges[-1] - self.fault_edges[-3] <= 8:

@@ -202,7 +202,7 @@ CONFIGS = [
     {},
     {"phases": 5, "width": 18, "rule": "exact_nearest", "dead_min": 7, "upper_active_low": True,
      "lower_active_low": False, "counter_width": 16},
-    {"max_bits": 0, "asc": False},
+    {"max_bits": 0, "asc": False, "watchdog": False},
 ]
 
 
