@@ -629,21 +629,22 @@ class Monitor:
     def hit(self, point, bin_):
         self.run.coverage.hit(point, bin_)
 
-    def _watchdog_not_built_in(self, start, beat, write) -> None:
-        point = seq.WatchdogNotBuiltIn.POINT
-        if write is not None and write[0] == regs.WATCHDOG:
-            self.timeout_written = min(write[1], 0xFFFF)
-            if self.timeout_written:
-                self.hit(point, "WATCHDOG written non-zero")
-        commit = write is not None and write[0] == regs.CMD and write[1] & regs.CMD_REF_COMMIT
-        if beat or commit:
+    @staticmethod
+    def arrival(beat, write) -> bool:
+        """A reference arrives in this clock: a beat taken on the port or a commit written."""
+        return bool(beat or (write is not None and write[0] == regs.CMD
+                             and write[1] & regs.CMD_REF_COMMIT))
+
+    def _starts_without_reference(self, start, beat, write) -> None:
+        """Without the watchdog built in: the update starts since a reference last arrived,
+        against the last WATCHDOG written."""
+        if self.arrival(beat, write):
             self.starts_without_reference = 0
         elif start:
             self.starts_without_reference += 1
             if 0 < self.timeout_written < self.starts_without_reference:
-                self.hit(point, "more update starts without a reference than WATCHDOG written")
-        if write is not None and write[0] == regs.CMD and write[1] & regs.CMD_WATCHDOG_CLEAR:
-            self.hit(point, "CMD.WATCHDOG_CLEAR written")
+                self.hit(seq.WatchdogNotBuiltIn.POINT,
+                         "more update starts without a reference than WATCHDOG written")
 
     # --------------------------------------------------------------------- before the step
     def before(self, bus, write, read, valid, payload) -> dict:
@@ -675,7 +676,7 @@ class Monitor:
                  "stop_rise": bool(m.wd_tripped and not driver.stop_prev),
                  "left_normal": not (driver.fault_prev or driver.stop_prev)}
         if not m.watchdog:
-            self._watchdog_not_built_in(start, beat, write)
+            self._starts_without_reference(start, beat, write)
         if run.fault_in != self.last_fault_in:
             self.fault_edges.append(run.cycle)
             if len(self.fault_edges) >= 3 and self.fault_edges[-1] - self.fault_edges[-3] <= 8:
@@ -728,9 +729,7 @@ class Monitor:
             edges = seq.Watchdog.octave_edges(run)
             if edges and m.wd_quiet == timeout:     # not lowered below it: the count ran to it
                 self.hit(seq.Watchdog.OCTAVES, band(timeout, edges))
-            arrival = beat or (write is not None and write[0] == regs.CMD
-                               and write[1] & regs.CMD_REF_COMMIT)
-            if arrival:
+            if self.arrival(beat, write):
                 self.hit(seq.Watchdog.POINT, "a reference in the tripping start's clock")
         total = m.total + bin(turn_on).count("1")
         clearing = write is not None and write[0] == regs.CMD and write[1] & regs.CMD_COUNT_CLEAR
@@ -852,7 +851,11 @@ class Monitor:
             self.hit(seq.ModulationClamp.POINT, "bits outside MODE and BITS")
         if address == regs.WATCHDOG:
             stored = min(value, 0xFFFF)
-            if (stored and not m.wd_tripped and m.wd_timeout > m.wd_quiet
+            if not m.watchdog:
+                self.timeout_written = stored
+                if stored:
+                    self.hit(seq.WatchdogNotBuiltIn.POINT, "WATCHDOG written non-zero")
+            elif (stored and not m.wd_tripped and m.wd_timeout > m.wd_quiet
                     and stored <= m.wd_quiet):
                 self.hit(seq.Watchdog.POINT, "TIMEOUT lowered below the quiet count")
         if address == regs.FAULT_REACTION and driver.reaction:
@@ -877,6 +880,8 @@ class Monitor:
                 self.hit(seq.FaultLatch.POINT, "clear once the input is low")
         if value & regs.CMD_WATCHDOG_CLEAR and m.wd_tripped:
             self.hit(seq.Watchdog.POINT, "cleared")
+        if value & regs.CMD_WATCHDOG_CLEAR and not m.watchdog:
+            self.hit(seq.WatchdogNotBuiltIn.POINT, "CMD.WATCHDOG_CLEAR written")
 
     def _beat(self, payload) -> None:
         run, m = self.run, self.run.model
