@@ -75,7 +75,8 @@ class DemoConfig:
         fits (the iCEBreaker keeps it); 1 .. min(12, width - 2) the whole generator (SVPWM,
         DPWM, b-bit) behind the bus (the HX8K and ECP5 boards: 8).
     bus_timeout, frame_timeout : int or None
-        The bridge's (default frame timeout: 30 byte times).
+        The bridge's (default frame timeout: 30 byte times); ``bus_timeout`` in [2, 65536]: a
+        register access takes two clocks (the arbiter registers the request).
     """
 
     def __init__(self, clk_hz, baud=115200, phases=3, width=16, buttons=(), debounce=None,
@@ -103,7 +104,9 @@ class DemoConfig:
             raise ValueError(f"freq_hz must be a number in [0, clk_hz / 2), not {freq_hz!r}")
         if not (isinstance(amplitude, (int, float)) and 0 <= amplitude < 2):
             raise ValueError(f"amplitude must be a number of Vdc in [0, 2), not {amplitude!r}")
-        self.bus_timeout = bus_timeout
+        # a register access takes two clocks through the arbiter's registered request
+        self.bus_timeout = validate_positive(bus_timeout, "bus_timeout", minimum=2,
+                                             maximum=1 << 16)
         self.frame_timeout = 300 * self.divider if frame_timeout is None else frame_timeout
         self.dead_min = validate_positive(max(1, _clocks(dead_min_ns, clk_hz)), "dead_min",
                                           maximum=0xFFFF)

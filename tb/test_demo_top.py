@@ -249,6 +249,7 @@ def test_demo_top(board):
     ({"freq_hz": -1}, "freq_hz must be a number in [0, clk_hz / 2), not -1"),
     ({"amplitude": 2}, "amplitude must be a number of Vdc in [0, 2), not 2"),
     ({"debounce": 0}, "debounce must be an integer in [1, 16777216], not 0"),
+    ({"bus_timeout": 1}, "bus_timeout must be an integer in [2, 65536], not 1"),
 ])
 def test_demo_config_rejects_bad_parameters(kwargs, message):
     args = {"clk_hz": 18_000_000, **kwargs}

@@ -247,18 +247,30 @@ class ButtonsModel:
 
 
 class ArbiterModel:
-    """:class:`demo.arbiter.WishboneArbiter`: ``step(m0_cyc, m1_cyc)``."""
+    """:class:`demo.arbiter.WishboneArbiter`: ``outputs()`` is the bus side (registered),
+    ``step(m0, m1, ack)`` takes each master's outputs of the cycle (dicts with ``cyc stb we adr
+    dat_w sel``) and the slaves' ``ack``, and returns the owner of the cycle."""
+
+    REQUEST = ("cyc", "stb", "we", "adr", "dat_w", "sel")
 
     def __init__(self):
         self.owner = 0
+        self.bus = dict.fromkeys(self.REQUEST, 0)
 
-    def step(self, m0_cyc=0, m1_cyc=0) -> int:
+    def outputs(self) -> dict:
+        return dict(self.bus)
+
+    def step(self, m0, m1, ack=0) -> int:
         owner = self.owner
-        if not (m1_cyc if owner else m0_cyc):
-            if m1_cyc:
+        master = m1 if owner else m0
+        if not (master["cyc"] or self.bus["cyc"]):
+            if m1["cyc"]:
                 self.owner = 1
-            elif m0_cyc:
+            elif m0["cyc"]:
                 self.owner = 0
+        self.bus = {name: master[name] for name in self.REQUEST}
+        self.bus["cyc"] = int(bool(master["cyc"] and not ack))
+        self.bus["stb"] = int(bool(master["stb"] and not ack))
         return owner
 
 
@@ -277,7 +289,7 @@ class SequencerModel:
     def outputs(self) -> dict:
         busy = self.index != len(self.init) if self.state == "IDLE" else True
         return {"cyc": self.cyc, "stb": self.cyc, "we": self.we, "adr": self.adr,
-                "dat_w": self.dat_w, "busy": int(busy)}
+                "dat_w": self.dat_w, "sel": 0b1111, "busy": int(busy)}
 
     def _access(self, we, adr, dat=0):
         self.cyc, self.we, self.adr, self.dat_w = 1, we, adr, dat
@@ -317,7 +329,7 @@ class DemoModel:
     returns the pins of this cycle, then advances every block one clock.
 
     Every signal between blocks is registered or combinational from registers (the decoder and
-    the arbiter's multiplexers are evaluated here), so each block's outputs of the cycle are
+    the arbiter's ``ack`` routing are evaluated here), so each block's outputs of the cycle are
     taken first and then every block steps."""
 
     def __init__(self, config):
@@ -356,14 +368,13 @@ class DemoModel:
         c = self.config
         pins = self.pins()
         urx, br, utx = self.urx.outputs(), self.bridge.outputs(), self.utx.outputs()
-        seq, owner = self.seq.outputs(), self.arbiter.owner
+        seq, owner, bus = self.seq.outputs(), self.arbiter.owner, self.arbiter.outputs()
         demo, nco = self.demo.outputs(), self.nco.outputs()
         btn = self.buttons.outputs() if self.buttons else {"state": 0, "pressed": 0}
         pressed = {a: (btn["pressed"] >> i) & 1 for i, a in enumerate(c.buttons)}
 
-        # arbiter and decoder: the request routed by its address, the answer by the window
-        # that held the address a clock before
-        bus = seq if owner else br
+        # arbiter (its bus side registered) and decoder: the request routed by its address,
+        # the answer by the window that held the address a clock before
         adr = bus["adr"]
         hit_top = adr >> self.top_width == self.top_base >> self.top_width
         dw = self.demo_window
@@ -381,7 +392,7 @@ class DemoModel:
         self.utx.step(valid=br["tx_valid"], payload=br["tx_payload"])
         self.seq.step(ack=ack and owner, dat_r=dat_r, enable_toggle=pressed.get("enable", 0),
                       fault_clear=pressed.get("fault_clear", 0))
-        self.arbiter.step(m0_cyc=br["cyc"], m1_cyc=seq["cyc"])
+        self.arbiter.step(br, seq, ack)
 
         freq, amp = demo["NCO_FREQ"], demo["NCO_AMP"]
         freq_top, amp_top = _mask(c.acc_bits), _mask(c.width - 1)
