@@ -144,6 +144,12 @@ def host_script(config, rng):
     assert (yield from read(top["CTRL"])) & top_map.CTRL_ENABLE      # nothing was written
 
     # buttons: press each one (held for several samples), then read what it changed
+    def press(i):
+        yield ("buttons", 1 << i)
+        yield ("idle", 4 * SIM_DEBOUNCE)
+        yield ("buttons", 0)
+        yield ("idle", 3 * SIM_DEBOUNCE)
+
     freq, amp = (1 << config.acc_bits) // 30000, config.contract.full // 2
     ctrl = yield from read(top["CTRL"])
     for i, action in enumerate(config.buttons):
@@ -151,10 +157,7 @@ def host_script(config, rng):
             yield ("fault", 1)
             yield ("idle", 10)
             yield ("fault", 0)
-        yield ("buttons", 1 << i)
-        yield ("idle", 4 * SIM_DEBOUNCE)
-        yield ("buttons", 0)
-        yield ("idle", 3 * SIM_DEBOUNCE)
+        yield from press(i)
         if action in ("freq_up", "freq_down"):
             freq = freq + (freq >> 3) + 1 if action == "freq_up" else freq - (freq >> 3) - 1
             assert (yield from read(demo.addr("NCO_FREQ"))) == freq, action
@@ -166,6 +169,16 @@ def host_script(config, rng):
             assert (yield from read(top["CTRL"])) == ctrl, action
         else:
             assert not (yield from read(top["STATUS"])) & top_map.STATUS_FAULT, action
+
+    # the frequency and amplitude steps stop at their limits: the top going up, 0 going down
+    limits = {"freq_up": ("NCO_FREQ", (1 << config.acc_bits) - 1), "freq_down": ("NCO_FREQ", 0),
+              "amp_up": ("NCO_AMP", (1 << (config.width - 1)) - 1), "amp_down": ("NCO_AMP", 0)}
+    for i, action in enumerate(config.buttons):
+        if action in limits:
+            name, limit = limits[action]
+            yield from write(demo.addr(name), limit)
+            yield from press(i)
+            assert (yield from read(demo.addr(name))) == limit, action
     yield ("idle", 300)
 
 
