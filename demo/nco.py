@@ -18,8 +18,9 @@ class SineNco(wiring.Component):
     """Reference codes of an N-phase sine of runtime frequency and amplitude.
 
     One table read port and one serial shift-add multiplier are shared by the phases, so the
-    block is small on any FPGA (no DSP); a beat takes ``1 + N (sample_width + 1)`` clocks
-    (:mod:`mdfqm_model.nco`, "Clock-level timing").
+    block is small on any FPGA (no DSP); a beat takes ``1 + N (sample_width + 2)`` clocks
+    (:mod:`mdfqm_model.nco`, "Clock-level timing"): the sign is applied in a clock of its own,
+    so that the multiplier's carry chain and the negation's are not one path.
 
     Ports
     -----
@@ -54,7 +55,7 @@ class SineNco(wiring.Component):
             raise ValueError(f"quarter must be a bool, not {quarter!r}")
         self.phases, self.width, self.acc_bits = phases, width, acc_bits
         self.table_bits, self.sample_width, self.quarter = table_bits, sample_width, quarter
-        self.beat_clocks = 1 + phases * (sample_width + 1)
+        self.beat_clocks = 1 + phases * (sample_width + 2)
         super().__init__({
             "freq": In(acc_bits),
             "amplitude": In(width - 1),
@@ -123,11 +124,12 @@ class SineNco(wiring.Component):
                 step = Cat(product[1:mag_bits], high)
                 m.d.sync += [product.eq(step), mag.eq(mag >> 1), bit.eq(bit - 1)]
                 with m.If(bit == 0):
-                    code = step[mag_bits:]
-                    m.d.sync += self.ref.payload[k].eq(Mux(negative, -code, code))
-                    m.d.sync += k.eq(k + 1)
-                    m.next = "ADDRESS"
-                    with m.If(k == n - 1):
-                        m.d.sync += self.ref.valid.eq(1)
-                        m.next = "IDLE"
+                    m.next = "STORE"
+            with m.State("STORE"):          # the product's high part is the code's magnitude
+                code = product[mag_bits:]
+                m.d.sync += [self.ref.payload[k].eq(Mux(negative, -code, code)), k.eq(k + 1)]
+                m.next = "ADDRESS"
+                with m.If(k == n - 1):
+                    m.d.sync += self.ref.valid.eq(1)
+                    m.next = "IDLE"
         return m

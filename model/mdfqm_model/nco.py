@@ -6,10 +6,10 @@ and models the clock-level timing:
 
 Clock-level timing (:class:`NcoModel`): a cycle with the FSM idle and no beat held *captures*
 ``base = acc`` (the value visible in that cycle) and the amplitude; each phase then takes
-``2 + (sample_width - 1)`` clocks (table address, table data, one clock per magnitude bit of
-a serial multiplier); ``ref.valid`` rises the clock after the last phase and holds with its
-payload until ``ref.ready``; the next capture is the clock after the transfer. A beat therefore
-takes ``1 + N (sample_width + 1)`` clocks to compute.
+``3 + (sample_width - 1)`` clocks (table address, table data, one clock per magnitude bit of
+a serial multiplier, one to apply the sign); ``ref.valid`` rises the clock after the last phase
+and holds with its payload until ``ref.ready``; the next capture is the clock after the
+transfer. A beat therefore takes ``1 + N (sample_width + 2)`` clocks to compute.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ class NcoModel:
         validate_nco(acc_bits, table_bits, sample_width)
         self.phases, self.width = phases, width
         self.acc_bits, self.table_bits, self.sample_width = acc_bits, table_bits, sample_width
-        self.beat_clocks = 1 + phases * (sample_width + 1)
+        self.beat_clocks = 1 + phases * (sample_width + 2)
         self.acc = 0
         self.valid = 0
         self.payload = (0,) * phases

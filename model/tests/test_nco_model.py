@@ -55,7 +55,7 @@ def test_codes_truncate_toward_zero_and_respect_extremes():
 
 def test_model_timing_and_frequency():
     model = NcoModel(3, 16, acc_bits=32, table_bits=8, sample_width=16)
-    assert model.beat_clocks == 1 + 3 * 17
+    assert model.beat_clocks == 1 + 3 * 18     # capture; per phase 2 + 15 + 1 clocks
     freq, amplitude = 123_456_789, 20_000
     beats = []
     for cycle in range(20 * (model.beat_clocks + 1)):
