@@ -112,6 +112,11 @@ def summary(board, result: dict, seconds: float) -> str:
     return "\n".join(lines)
 
 
+def without_seed(nextpnr_opts: str) -> str:
+    """A board's nextpnr options without the seed it names."""
+    return re.sub(r"--seed\s+\d+", "", nextpnr_opts).strip()
+
+
 def build(board_name: str, out: Path | None = None, seed: int | None = None,
           verbose: bool = False) -> dict:
     """Build one board; returns the parsed nextpnr log plus ``seconds`` and ``dir``."""
@@ -121,7 +126,7 @@ def build(board_name: str, out: Path | None = None, seed: int | None = None,
     platform = board.make_platform()
     opts = [board.nextpnr_opts] if board.nextpnr_opts else []
     if seed is not None:     # the seed asked for replaces the board's own (nextpnr takes one)
-        opts = [re.sub(r"--seed\s+\d+", "", o).strip() for o in opts] + [f"--seed {seed}"]
+        opts = [without_seed(o) for o in opts] + [f"--seed {seed}"]
     opts.append(f"--report {REPORT}")
     start = time.monotonic()
     platform.build(DemoTop(board), name=NAME, build_dir=str(directory), do_program=False,

@@ -37,7 +37,15 @@ from importlib import metadata
 from pathlib import Path
 
 import boards
-from boards.build import NAME, REPORT, build_dir, limiting_path, parse_nextpnr_log, use_yowasp
+from boards.build import (
+    NAME,
+    REPORT,
+    build_dir,
+    limiting_path,
+    parse_nextpnr_log,
+    use_yowasp,
+    without_seed,
+)
 
 __all__ = [
     "DEFAULT_FILES",
@@ -182,6 +190,8 @@ def table(rows: list[tuple], versions: list[str], seed, seeds=(), paths=None) ->
              f"Board builds of the demo (`make report`, {today}, {os.cpu_count()}-core machine; "
              f"the bitstream's build: nextpnr seed {seed if seed is not None else 'default'}, "
              "or the board's own where its `nextpnr_opts` names one"
+             + "".join(f"; {board.name}'s builds also with `{without_seed(board.nextpnr_opts)}`"
+                       for board, *_ in rows if without_seed(board.nextpnr_opts))
              + (f"; the median and the minimum Fmax over nextpnr seeds {swept}, each placed "
                 "and routed again" if seeds else "") + "):", "",
              "| board | device | clock MHz | LUT4 | FF | LCs / slices used | BRAM | PLL | "
