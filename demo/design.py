@@ -258,30 +258,31 @@ class DemoDesign(wiring.Component):
 
         freq, amp = regs.NCO_FREQ, regs.NCO_AMP
         freq_top, amp_top = (1 << c.acc_bits) - 1, (1 << (c.width - 1)) - 1
-        # one carry chain per register for both directions, its carry out the saturation test:
-        # up f + f/8 + 1 (about +12.5 %) as (2f + 1 + 2 (f/8) + 1) / 2, carrying out when it
-        # passes the top; down f - f/8 - 1 as f + ~(f/8), carrying out exactly when f >= 1
-        # (else the step stops at 0). The amplitude's likewise: a + step, or a - step as
-        # a + 2**(width-1) - step, whose top bit says a >= step.
-        freq_up, amp_up = press("freq_up"), press("amp_up")
+        # each step one carry chain, its carry out the saturation test: f + f/8 + 1 (about
+        # +12.5 %) as (2f + 1 + 2 (f/8) + 1) / 2; f - f/8 - 1 as f + ~(f/8), which carries out
+        # exactly when f >= 1 (else the step stops at 0); the amplitude's likewise (a - step
+        # as a + 2**(width-1) - step, whose top bit says a >= step)
         eighth = Signal(c.acc_bits)
-        freq_step = Signal(c.acc_bits + 2)
-        amp_step = Signal(c.width)
+        up = Signal(c.acc_bits + 2)
+        down = Signal(c.acc_bits + 1)
+        amp_up = Signal(c.width)
+        amp_down = Signal(c.width)
         m.d.comb += [
             eighth.eq(freq >> 3),
-            freq_step.eq(Cat(freq_up, freq) + Cat(freq_up, Mux(freq_up, eighth, ~eighth))),
-            amp_step.eq(amp + Mux(amp_up, c.amp_step, (1 << (c.width - 1)) - c.amp_step)),
+            up.eq(Cat(1, freq) + Cat(1, eighth)),
+            down.eq(freq + ~eighth),
+            amp_up.eq(amp + c.amp_step),
+            amp_down.eq(amp + ((1 << (c.width - 1)) - c.amp_step)),
         ]
-
-        def saturated(total, carry, up, top):
-            """The step's result, or the limit it passed (the top going up, 0 going down)."""
-            return Mux(carry ^ up, total, Mux(up, top, 0))
-
         m.d.comb += [
-            regs.NCO_FREQ_set.eq(freq_up | press("freq_down")),
-            regs.NCO_FREQ_value.eq(saturated(freq_step[1:-1], freq_step[-1], freq_up, freq_top)),
-            regs.NCO_AMP_set.eq(amp_up | press("amp_down")),
-            regs.NCO_AMP_value.eq(saturated(amp_step[:-1], amp_step[-1], amp_up, amp_top)),
+            regs.NCO_FREQ_set.eq(press("freq_up") | press("freq_down")),
+            regs.NCO_FREQ_value.eq(Mux(press("freq_up"),
+                                       Mux(up[-1], freq_top, up[1:-1]),
+                                       Mux(down[-1], down[:-1], 0))),
+            regs.NCO_AMP_set.eq(press("amp_up") | press("amp_down")),
+            regs.NCO_AMP_value.eq(Mux(press("amp_up"),
+                                      Mux(amp_up[-1], amp_top, amp_up[:-1]),
+                                      Mux(amp_down[-1], amp_down[:-1], 0))),
             seq.enable_toggle.eq(press("enable")),
             seq.fault_clear.eq(press("fault_clear")),
         ]
