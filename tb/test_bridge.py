@@ -291,7 +291,8 @@ def generate_bus_pair(rng, cycles):
 @cocotb.test()
 async def arbiter_and_sequencer(dut):
     """Initial writes, enable toggles (read-modify-write) and fault clears from random button
-    pulses, while another master keeps the bus busy."""
+    pulses, while another master keeps the bus busy and at times gives up waiting (an answer
+    to its abandoned request must not reach the sequencer waiting for the bus)."""
     rng = seeded_rng(dut, "arbiter_and_sequencer")
     stim, expected, _, seen = generate_bus_pair(rng, 6000)
     await start(dut)
