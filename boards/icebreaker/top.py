@@ -3,7 +3,7 @@
 Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 27 MHz system clock. The full generator
 (max_bits 8, every mode), synthesised with the UP5K's DSP blocks; the demo fills most of the
 part, and its Fmax over nextpnr seeds 1-5 and the logic cells used are in docs/boards.md's
-table (``make report``). The build places with seed 1 and routes with nextpnr's router2.
+table (``make report``). The build places with seed 1.
 Pins: gates, fault and scope trigger on PMOD1A; UART through the FTDI (second channel);
 LEDs: green = active, red = fault, break-off LED2 = heartbeat; buttons: the user button
 (enable toggle) and the break-off PMOD's three buttons.
@@ -33,10 +33,7 @@ BOARD = Board(
     fault_attrs={"IO_STANDARD": "SB_LVCMOS", "PULLUP": 1},
     extra_resources=tuple(ICEBreakerPlatform.break_off_pmod),
     notes="The break-off PMOD (PMOD2) must be attached for the heartbeat LED and buttons 1-3.",
-    # router2: on this nearly full part router1 can fail to converge on a placement (overused
-    # wires stuck for as long as it is let run; seed 1 of the demo of 2026-11-29), router2 routes
-    # the same placement in seconds
-    nextpnr_opts="--seed 1 --router router2",
+    nextpnr_opts="--seed 1",
     # the UP5K's configuration, as make perf counts the UP5K (SB_MAC16 blocks for any multiplier)
     synth_opts="-dsp",
     demo={"max_bits": 8},
