@@ -9,7 +9,7 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from mdfqm_spec.contract import Contract
-from mdfqm_spec.nco import phase_offsets, sine_quarter, sine_table, validate_nco
+from mdfqm_spec.nco import beat_clocks, phase_offsets, sine_quarter, sine_table, validate_nco
 
 __all__ = ["SineNco"]
 
@@ -55,7 +55,7 @@ class SineNco(wiring.Component):
             raise ValueError(f"quarter must be a bool, not {quarter!r}")
         self.phases, self.width, self.acc_bits = phases, width, acc_bits
         self.table_bits, self.sample_width, self.quarter = table_bits, sample_width, quarter
-        self.beat_clocks = 1 + phases * (sample_width + 2)
+        self.beat_clocks = beat_clocks(phases, sample_width)
         super().__init__({
             "freq": In(acc_bits),
             "amplitude": In(width - 1),

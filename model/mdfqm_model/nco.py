@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mdfqm_spec.nco import phase_offsets, sine_table, validate_nco
+from mdfqm_spec.nco import beat_clocks, phase_offsets, sine_table, validate_nco
 
 __all__ = ["NcoModel", "reference_codes"]
 
@@ -46,7 +46,7 @@ class NcoModel:
         validate_nco(acc_bits, table_bits, sample_width)
         self.phases, self.width = phases, width
         self.acc_bits, self.table_bits, self.sample_width = acc_bits, table_bits, sample_width
-        self.beat_clocks = 1 + phases * (sample_width + 2)
+        self.beat_clocks = beat_clocks(phases, sample_width)
         self.acc = 0
         self.valid = 0
         self.payload = (0,) * phases

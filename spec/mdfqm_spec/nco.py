@@ -27,7 +27,7 @@ import math
 
 from .validate import validate_int
 
-__all__ = ["phase_offsets", "sine_quarter", "sine_table", "validate_nco"]
+__all__ = ["beat_clocks", "phase_offsets", "sine_quarter", "sine_table", "validate_nco"]
 
 
 def validate_nco(acc_bits: int, table_bits: int, sample_width: int) -> None:
@@ -35,6 +35,12 @@ def validate_nco(acc_bits: int, table_bits: int, sample_width: int) -> None:
     validate_int(table_bits, "table_bits", 2, 12)
     validate_int(sample_width, "sample_width", 4, 24)
     validate_int(acc_bits, "acc_bits", table_bits + 2, 32)
+
+
+def beat_clocks(phases: int, sample_width: int) -> int:
+    """Clocks the NCO takes to compute a beat: the capture, then per phase the table address,
+    the table data, one clock per magnitude bit (``sample_width - 1``) and one for the sign."""
+    return 1 + phases * (sample_width + 2)
 
 
 def sine_quarter(table_bits: int, sample_width: int) -> list[int]:
