@@ -47,7 +47,7 @@ generate: $(STAMP)
 	$(PY) -m tools.ipxact_component --out build/generated
 
 bitstream: $(STAMP)
-	$(PY) -m boards.build --board $(BOARD)
+	$(PY) -m boards.build --board $(BOARD) --timeout 30
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check conftest.py spec rtl model demo boards host drive tools tb

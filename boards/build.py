@@ -1,10 +1,12 @@
 """Build the demo bitstream of one board with the PyPI toolchain (YoWASP).
 
-    python -m boards.build --board icebreaker [--seed 1] [--out build/boards]
+    python -m boards.build --board icebreaker [--seed 1] [--out build/boards] [--timeout 30]
 
 Writes ``<out>/<board>/mdfqm_demo.{bin,bit}`` and the tools' logs, prints the resource use and
 the post-route Fmax. nextpnr fails (exit status non-zero) when the design misses its clock
-constraint; so does this command. The tool variables (``YOSYS``, ``NEXTPNR_ICE40``, ...)
+constraint; so does this command. With ``--timeout`` the build, and every tool it starts, is
+stopped after that many minutes and the command fails: nextpnr's router can run on without end
+on a congested placement. The tool variables (``YOSYS``, ``NEXTPNR_ICE40``, ...)
 default to the YoWASP tools when they are not set (the Makefile sets them too).
 """
 
@@ -14,6 +16,7 @@ import argparse
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
 import time
@@ -112,6 +115,25 @@ def summary(board, result: dict, seconds: float) -> str:
     return "\n".join(lines)
 
 
+class BuildTimeoutError(RuntimeError):
+    """A board build ran out of its time (the placement's fault, not the design's)."""
+
+
+def run_bounded(cmd: list[str], minutes: float, quiet: bool = True) -> int:
+    """Run ``cmd`` in its own process group, killed with every process it started after
+    ``minutes`` (:class:`BuildTimeoutError`); its exit status. ``quiet``: its output is
+    dropped (else it goes to this process's)."""
+    sink = subprocess.DEVNULL if quiet else None
+    with subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=sink,
+                          start_new_session=True) as process:
+        try:
+            return process.wait(timeout=minutes * 60)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+            raise BuildTimeoutError(f"stopped after {minutes:g} min") from None
+
+
 def without_seed(nextpnr_opts: str) -> str:
     """A board's nextpnr options without the seed it names."""
     return re.sub(r"--seed\s+\d+", "", nextpnr_opts).strip()
@@ -148,7 +170,25 @@ def main(argv=None) -> int:
                         help="parent of the per-board build directory (default build/boards)")
     parser.add_argument("--seed", type=int, default=None, help="nextpnr placement seed")
     parser.add_argument("-v", "--verbose", action="store_true")
+    parser.add_argument("--timeout", type=float, default=None, metavar="MIN",
+                        help="stop the build, with every tool it started, after MIN minutes "
+                        "and fail")
     args = parser.parse_args(argv)
+    if args.timeout is not None:
+        if args.timeout <= 0:
+            parser.error("--timeout must be a positive number of minutes")
+        cmd = [sys.executable, "-m", "boards.build", "--board", args.board]
+        cmd += ["--out", str(args.out)] if args.out is not None else []
+        cmd += ["--seed", str(args.seed)] if args.seed is not None else []
+        cmd += ["--verbose"] if args.verbose else []
+        try:
+            return run_bounded(cmd, args.timeout, quiet=False)
+        except BuildTimeoutError as stopped:
+            log = build_dir(args.board, args.out) / f"{NAME}.tim"
+            print(f"{args.board}: build {stopped} (--timeout): nextpnr had not finished; a "
+                  f"router that does not converge on a placement runs on: try another seed "
+                  f"(--seed, or the board's nextpnr_opts). Log: {log}", file=sys.stderr)
+            return 1
     try:
         result = build(args.board, args.out, args.seed, args.verbose)
     except subprocess.CalledProcessError as error:

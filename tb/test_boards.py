@@ -192,12 +192,23 @@ def test_a_build_past_its_time_is_stopped_with_every_process_it_started(tmp_path
     marker = tmp_path / "written by the grandchild"
     grandchild = f"import time, pathlib; time.sleep(2); pathlib.Path({str(marker)!r}).touch()"
     child = f"import subprocess, sys; subprocess.run([sys.executable, '-c', {grandchild!r}])"
-    with pytest.raises(report.BuildTimeoutError, match=r"stopped after 0\.01 min"):
-        report.run_bounded([sys.executable, "-c", child], 0.01)
+    with pytest.raises(board_build.BuildTimeoutError, match=r"stopped after 0\.01 min"):
+        board_build.run_bounded([sys.executable, "-c", child], 0.01)
     time.sleep(3)
     assert not marker.exists()
     # within its time, the exit status is the command's
-    assert report.run_bounded([sys.executable, "-c", "raise SystemExit(3)"], 1) == 3
+    assert board_build.run_bounded([sys.executable, "-c", "raise SystemExit(3)"], 1) == 3
+
+
+def test_a_bitstream_build_past_its_timeout_fails_and_says_why(capsys):
+    out = ROOT / "build" / "timeout-test"
+    assert board_build.main(["--board", "icebreaker", "--out", str(out),
+                             "--timeout", "0.002"]) == 1
+    message = capsys.readouterr().err
+    assert "icebreaker: build stopped after 0.002 min (--timeout)" in message
+    assert "try another seed" in message
+    with pytest.raises(SystemExit):
+        board_build.main(["--board", "icebreaker", "--timeout", "0"])
 
 
 def test_report_table_is_spliced_between_markers():

@@ -28,7 +28,6 @@ import datetime
 import json
 import os
 import re
-import signal
 import statistics
 import subprocess
 import sys
@@ -40,9 +39,11 @@ import boards
 from boards.build import (
     NAME,
     REPORT,
+    BuildTimeoutError,
     build_dir,
     limiting_path,
     parse_nextpnr_log,
+    run_bounded,
     use_yowasp,
     without_seed,
 )
@@ -66,23 +67,6 @@ BEGIN, END = "<!-- boards-report:begin -->", "<!-- boards-report:end -->"
 DEFAULT_FILES = ("README.md", "docs/boards.md")
 #: minutes one board build (synthesis, place and route, packing) may take before it is stopped
 BUILD_TIMEOUT = 20.0
-
-
-class BuildTimeoutError(RuntimeError):
-    """A board build ran out of its time (the placement's fault, not the design's)."""
-
-
-def run_bounded(cmd: list[str], minutes: float) -> int:
-    """Run ``cmd`` in its own process group, killed with every process it started after
-    ``minutes`` (:class:`BuildTimeoutError`); its exit status."""
-    with subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                          start_new_session=True) as process:
-        try:
-            return process.wait(timeout=minutes * 60)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
-            raise BuildTimeoutError(f"stopped after {minutes:g} min") from None
 
 
 def build_bounded(name: str, out: Path | None, seed: int | None, minutes: float) -> Path:
