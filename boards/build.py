@@ -134,6 +134,15 @@ def run_bounded(cmd: list[str], minutes: float, quiet: bool = True) -> int:
             raise BuildTimeoutError(f"stopped after {minutes:g} min") from None
 
 
+def build_command(board_name: str, out: Path | None = None, seed: int | None = None,
+                  verbose: bool = False) -> list[str]:
+    """The command that builds one board in a process of its own (for :func:`run_bounded`)."""
+    cmd = [sys.executable, "-m", "boards.build", "--board", board_name]
+    cmd += ["--out", str(out)] if out is not None else []
+    cmd += ["--seed", str(seed)] if seed is not None else []
+    return cmd + (["--verbose"] if verbose else [])
+
+
 def without_seed(nextpnr_opts: str) -> str:
     """A board's nextpnr options without the seed it names."""
     return re.sub(r"--seed\s+\d+", "", nextpnr_opts).strip()
@@ -177,10 +186,7 @@ def main(argv=None) -> int:
     if args.timeout is not None:
         if args.timeout <= 0:
             parser.error("--timeout must be a positive number of minutes")
-        cmd = [sys.executable, "-m", "boards.build", "--board", args.board]
-        cmd += ["--out", str(args.out)] if args.out is not None else []
-        cmd += ["--seed", str(args.seed)] if args.seed is not None else []
-        cmd += ["--verbose"] if args.verbose else []
+        cmd = build_command(args.board, args.out, args.seed, args.verbose)
         try:
             return run_bounded(cmd, args.timeout, quiet=False)
         except BuildTimeoutError as stopped:

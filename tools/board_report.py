@@ -40,6 +40,7 @@ from boards.build import (
     NAME,
     REPORT,
     BuildTimeoutError,
+    build_command,
     build_dir,
     limiting_path,
     parse_nextpnr_log,
@@ -77,10 +78,7 @@ def build_bounded(name: str, out: Path | None, seed: int | None, minutes: float)
     directory = build_dir(name, out)
     for stale in (f"{NAME}.tim", REPORT, "summary.json"):
         (directory / stale).unlink(missing_ok=True)
-    cmd = [sys.executable, "-m", "boards.build", "--board", name]
-    cmd += ["--out", str(out)] if out is not None else []
-    cmd += ["--seed", str(seed)] if seed is not None else []
-    run_bounded(cmd, minutes)
+    run_bounded(build_command(name, out, seed), minutes)
     return directory
 
 
