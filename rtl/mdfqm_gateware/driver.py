@@ -437,17 +437,29 @@ class GateDriver(wiring.Component):
 
         # The command followed in every cycle, the enable taken at update boundaries; a fault
         # clears the taken enable.
+        # Every term the legs take is formed twice from registers, once as if a fault is active
+        # and once as if none is, and ``fault_active`` picks one last: the synchronised fault
+        # input passes one multiplexer on its way to the legs, not the reaction's logic (the
+        # Fmax path of the tops on the UP5K and the HX8K).
         cmd_lat = Signal(n)
         cmd = Signal(n)
         drive = Signal()
+        drive_if_clear = Signal()
         m.d.comb += [
             cmd.eq(self.h),
-            drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop),
+            drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop),
+            drive.eq(drive_if_clear & ~fault_active),
         ]
         m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
-        now = self._reaction(m, fault_active)
+        now_if_fault, now_if_clear = self._reaction(m, fault_active)
         asc_lo, asc_hi = Signal(), Signal()     # the reaction of this clock, one-hot
-        m.d.comb += [asc_lo.eq(now == 1), asc_hi.eq(now == 2)]
+        leg_drive = Signal()
+        m.d.comb += [
+            asc_lo.eq(Mux(fault_active, now_if_fault == 1, now_if_clear == 1)),
+            asc_hi.eq(Mux(fault_active, now_if_fault == 2, now_if_clear == 2)),
+            # a leg leaving an ASC (the reaction of the last clock) is off for a clock
+            leg_drive.eq(~fault_active & drive_if_clear & (self.reaction == 0)),
+        ]
 
         legs = []
         for i in range(n):
@@ -456,8 +468,7 @@ class GateDriver(wiring.Component):
             legs.append(leg)
             m.d.comb += [
                 leg.cmd.eq(cmd[i]),
-                # a leg leaving an ASC (the reaction of the last clock) is off for a clock
-                leg.drive.eq(drive & (self.reaction == 0)),
+                leg.drive.eq(leg_drive),
                 leg.asc_lo.eq(asc_lo),
                 leg.asc_hi.eq(asc_hi),
                 leg.dead.eq(self.dead),
@@ -490,24 +501,30 @@ class GateDriver(wiring.Component):
         return Mux((reaction == 1) | (reaction == 2), reaction, 0)
 
     def _reaction(self, m, fault_active):
-        """The reaction of this clock (``now``), registered into ``reaction``."""
-        now = Signal(2)
+        """The reaction of this clock, registered into ``reaction``: ``(now_if_fault,
+        now_if_clear)``, what it is with ``fault_active`` high and low, each from registers."""
+        now_if_fault, now_if_clear = Signal(2), Signal(2)
         if not self.asc:
-            return now                      # all off only: nothing to latch
+            return now_if_fault, now_if_clear      # all off only: nothing to latch
         fault_prev = Signal()
         stop_prev = Signal()
         f, w = self.reaction_fault_acted, self.reaction_watchdog_acted
         m.d.comb += [f.eq(self._code(self.reaction_fault)),
                      w.eq(self._code(self.reaction_watchdog))]
-        rise_f = fault_active & ~fault_prev
         rise_w = self.stop & ~stop_prev
-        kill = (~(fault_active | self.stop) | self.all_off | (rise_f & (f == 0))
-                | (rise_w & (w == 0)))
-        m.d.comb += now.eq(Mux(kill, 0, Mux(fault_prev | stop_prev, self.reaction,
-                                            Mux(rise_f, f, w))))
-        m.d.sync += [self.reaction.eq(now), fault_prev.eq(fault_active),
-                     stop_prev.eq(self.stop)]
-        return now
+        held = fault_prev | stop_prev               # the gates had left normal operation
+        # the reaction becomes all off: on ALL_OFF, with no source high, or when a source
+        # rises whose reaction is all off (with the fault high, it rises unless it was high)
+        kill_common = self.all_off | (rise_w & (w == 0))
+        kill_if_fault = kill_common | (~fault_prev & (f == 0))
+        kill_if_clear = kill_common | ~self.stop
+        m.d.comb += [
+            now_if_fault.eq(Mux(kill_if_fault, 0, Mux(held, self.reaction, f))),
+            now_if_clear.eq(Mux(kill_if_clear, 0, Mux(held, self.reaction, w))),
+        ]
+        m.d.sync += [self.reaction.eq(Mux(fault_active, now_if_fault, now_if_clear)),
+                     fault_prev.eq(fault_active), stop_prev.eq(self.stop)]
+        return now_if_fault, now_if_clear
 
     def _reaction_properties(self, m, up, lo, fault_active):
         """The fault reaction: only the ASC switches on while a latch is set (every switch
