@@ -49,6 +49,12 @@ async def run_scenario(dut, scenario, cycles):
         if not p["asc"]:
             assert not any(b[0] == "first" and b[2] for b in hit if isinstance(b, tuple)), \
                 "an ASC without the ASC built in"
+    if scenario == "long_times":    # a remembered dead time deciding, in every octave above
+        # the floor (below it, DEAD lowered to 0 acts as dead_min and the two are equal)
+        want = {("remembered_dead_time", k) for k in range(p["time_width"])
+                if 1 << k > p["dead_min"]}
+        missing = sorted(want - hit)
+        assert not missing, f"driver_{scenario}: bins never reached {missing}"
     await start(dut)
     checked = await check_cycles(dut, stim, expected)
     dut._log.info("driver_%s: %d cycles, %d turn-ons, every output equal to the model",
@@ -101,8 +107,10 @@ async def driver_min_pulse(dut):
 @cocotb.test()
 async def driver_long_times(dut):
     """DEAD and MIN_PULSE in every octave up to 2**time_width - 1 (pulses stretched to the
-    minimum pulse, turn-ons after the dead time), then the legs disabled for longer than the
-    counters saturate and enabled: the commanded switches turn on at once. Last: the long dead
+    minimum pulse, turn-ons after the dead time, and in each round DEAD lowered while a leg
+    waits out the round's: it waits for the remembered one), then the largest dead time with
+    the legs disabled for longer than the counters saturate, and enabled: the commanded
+    switches turn on at once. Last: the long dead
     time stays in force after it (it is never shortened)."""
     await run_scenario(dut, "long_times", long_times_cycles(params()["time_width"]))
 

@@ -42,18 +42,38 @@ def long_times_cycles(time_width: int) -> int:
 
 def long_times_schedule(rng, p) -> dict:
     """The settings of the ``long_times`` scenario by the clock they take effect: (DEAD,
-    MIN_PULSE, enable). Rounds of rising octaves (a dead time in force is never shortened, so
-    the longest come last), then a dead time in the top octave with the legs disabled past the
-    counters' saturation, then enabled: every commanded switch on at once."""
+    MIN_PULSE, enable, lowered), ``lowered`` True in a round whose DEAD the scenario lowers
+    once a leg waits it out (:func:`waits_on_remembered`). Rounds of rising octaves (a dead
+    time in force is never shortened, so the longest come last), then the largest dead time
+    (``2**time_width - 1``: it elapses only once the count has saturated) with the legs
+    disabled past the counters' saturation, then enabled: every commanded switch on at once."""
     width, top = p["time_width"], (1 << p["time_width"]) - 1
     schedule, at = {}, 0
     for k in range(width):
         octave = (1 << k, min(top, (2 << k) - 1))
-        schedule[at] = (rng.randint(*octave), rng.randint(*octave), 1)
+        schedule[at] = (rng.randint(*octave), rng.randint(*octave), 1, True)
         at += long_round(k)
-    schedule[at] = (rng.randint((top + 1) // 2, top), 0, 0)
-    schedule[at + (top + 1) + LONG_TAIL[0]] = (schedule[at][0], 0, 1)
+    schedule[at] = (top, 0, 0, False)
+    schedule[at + (top + 1) + LONG_TAIL[0]] = (top, 0, 1, False)
     return schedule
+
+
+def waits_on_remembered(leg, dead: int) -> bool:
+    """The leg is off, inside a dead time that began under ``dead`` (its last on cycle's):
+    lowering DEAD now leaves it waiting for the remembered one (the rule "a dead time already
+    running is never shortened")."""
+    return (not (leg.up or leg.lo) and leg.dt_run == leg.dead_clamped(dead)
+            and leg.cnt + 1 < leg.dt_run)
+
+
+def remembered_dead_times(legs, dead: int) -> list:
+    """Per leg, the octave of the remembered dead time (``dt_run``) that decides a turn-on in
+    this clock, or None: the leg is off, its ``dt_run`` is above the clamped ``dead`` it acts
+    on, and its count reaches ``dt_run`` now."""
+    return [leg.dt_run.bit_length() - 1
+            if (not (leg.up or leg.lo) and leg.dt_run > leg.dead_clamped(dead)
+                and leg.cnt + 1 == leg.dt_run) else None
+            for leg in legs]
 
 
 class Stimulus:
@@ -248,6 +268,7 @@ def _generate(model, rng, scenario, p, cycles, hit):
     expected = {name: [] for name in DRIVER_OUTPUTS}
     up, lo, in_force = [], [], []
     chatter = stopped = 0
+    to_lower = False
     for cycle in range(cycles):
         rst = fault_in = clear = all_off = 0
         if scenario == "random":
@@ -294,11 +315,16 @@ def _generate(model, rng, scenario, p, cycles, hit):
                 s.dead = s.dead_choice()
         elif scenario == "long_times":
             # the widest settings, DEAD and MIN_PULSE in every octave up to 2**time_width - 1,
-            # and a state held past the counters' saturation (long_times_schedule)
+            # and a state held past the counters' saturation (long_times_schedule); in each
+            # round, DEAD lowered to 0 once a leg waits out the round's dead time: its turn-on
+            # then waits for the dead time remembered from its last on cycle
             if cycle == 0:
                 s.period, schedule = 10, long_times_schedule(rng, p)
             if cycle in schedule:
-                s.dead, s.min_pulse, s.enable = schedule[cycle]
+                s.dead, s.min_pulse, s.enable, to_lower = schedule[cycle]
+            elif to_lower and any(waits_on_remembered(leg, model.dead_seen)
+                                  for leg in model.legs):
+                s.dead, to_lower = 0, False
         elif scenario == "min_pulse" and cycle % 200 == 0:
             s.period = rng.choice([1, 2, 3, 4, 6, 9])
             s.dead = rng.choice([dead_min, 2, 3, 5])
@@ -318,9 +344,14 @@ def _generate(model, rng, scenario, p, cycles, hit):
                   "all_off": all_off}
         in_force.append(model.dead_in_force)     # the legs act on last clock's dead
         before = reaction_state(model, inputs) if hit is not None else None
+        # the legs act on the dead time of the clock before (dead_seen)
+        remembered = remembered_dead_times(model.legs, model.dead_seen)
         out = model.step(**inputs)
         if hit is not None:
             reaction_bins(model, inputs, before, hit)
+            hit.update(("remembered_dead_time", octave)
+                       for octave, leg in zip(remembered, model.legs, strict=True)
+                       if octave is not None and (leg.up or leg.lo))
         for name in INPUTS:
             stim[name].append(inputs[name])
         for name in DRIVER_OUTPUTS:

@@ -139,7 +139,7 @@ SAMPLE: tuple[Sampled, ...] = (
             "pin polarity"),
     # 'upper': Out(phases)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
             "pin polarity"),
     # 'fault': Out(1)
     Sampled("driver",
@@ -147,59 +147,59 @@ SAMPLE: tuple[Sampled, ...] = (
             "two events in one clock"),
     # 'fault': Out(1)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const1",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const0",
             "two events in one clock"),
     # 'upper': Out(phases)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
             "row: any pair of pin polarities"),
     # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8122c414 leg1 $mux#0 Y[6] inv",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 A[9] const1",
             "row: dead time below the elaboration floor"),
     # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg0 $gt#0 A[15] const1",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $ge#0 B[9] inv",
             "row: a commanded pulse shorter than the minimum pulse"),
     # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $xor#0 B[1] cnot0/0",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $xor#0 B[0] cnot0/1",
             "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # m.d.comb += fault_active.eq(self.fault_input | self.fault)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 A[0] const0",
+            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 B[0] inv",
             "row: fault input chatter, fault during a dead time"),
-    # drive.eq(Mux(self.update, self.enable, self.active) & ~fault_active & ~self.stop)
+    # drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@f9ddc422 top $and#0 A[0] const1",
+            "rtl/mdfqm_gateware/driver.py@2c51e235 top $mux#0 A[0] const0",
             "row: enable toggled in the middle of an update"),
-    # kill = ~(fault_active | self.stop) | self.all_off | rise_f & (f == 0) | rise_w & (w =...
+    # now_if_fault.eq(Mux(kill_if_fault, 0, Mux(held, self.reaction, f)))
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@a08180b1 top $and#0 Y[0] const1",
+            "rtl/mdfqm_gateware/driver.py@68c499a9 top $mux#1 Y[1] const0",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
+    # 'upper': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
+            "pin polarity"),
     # 'upper': Out(1)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
             "pin polarity"),
-    # 'lower': Out(1)
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg2 $dff#0 Q[0] inv",
-            "pin polarity"),
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
-    # request.eq(bus.cyc & bus.stb & ~bus.ack)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 B[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[25] inv",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[8] const1",
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[0] cnot0/17",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[3] const1",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
@@ -207,43 +207,43 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[1] const0",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#1 Y[1] const0",
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#0 A[3] const0",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[3] inv",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[3] cnot0/4",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 B[2] cnot1/1",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[9] cnot0/15",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 B[7] inv",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@c07b0f4d top $and#1 Y[0] const0",
+            "rtl/mdfqm_gateware/top.py@c07b0f4d top $and#3 Y[0] const0",
             "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 Y[0] const1",
             "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 B[0] const1",
             "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[2] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[3] const0",
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 Y[0] const1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[1] inv",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 B[2] const1",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[18] inv",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample

@@ -151,11 +151,11 @@ ROWS = {
         "driver": ("rtl/mdfqm_gateware/driver.py", r"fault_active\.eq\(self\.fault_input", ANY,
                    None)},
     "enable toggled in the middle of an update": {
-        "driver": ("rtl/mdfqm_gateware/driver.py", r"drive\.eq\(Mux\(self\.update, self\.enable",
-                   ANY, None)},
+        "driver": ("rtl/mdfqm_gateware/driver.py",
+                   r"drive_if_clear\.eq\(Mux\(self\.update, self\.enable", ANY, None)},
     "a fault or a watchdog trip with an active short circuit chosen": {
         "driver": ("rtl/mdfqm_gateware/driver.py",
-                   r"m\.d\.comb \+= now\.eq\(Mux\(kill|kill = \(~\(fault_active", ANY, None)},
+                   r"kill_common = |now_if_(fault|clear)\.eq\(Mux\(kill_if", ANY, None)},
     "the controller stops sending references": {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"trip\.eq\(\(timeout != 0\)", ANY, None)},
 }
