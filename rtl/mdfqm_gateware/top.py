@@ -473,8 +473,12 @@ class MdfqmTop(wiring.Component):
             m.d.sync += tripped.eq(1)
         with m.Elif(clear):
             m.d.sync += tripped.eq(0)
-        kept = Mux(count_clear, 0, trips)
-        m.d.sync += trips.eq(Mux(trip & (kept != 0xFFFF), kept + 1, kept))
+        # the count with a trip added (saturating) formed from registers, and the trip, late
+        # (an update start against the quiet count), picks it last
+        kept, counted = Signal(16), Signal(16)
+        m.d.comb += [kept.eq(Mux(count_clear, 0, trips)),
+                     counted.eq(Mux(kept == 0xFFFF, kept, kept + 1))]
+        m.d.sync += trips.eq(Mux(trip, counted, kept))
         return tripped, trip, quiet
 
     def _watchdog_properties(self, m, start, arrival, timeout, state, clears, driver):
