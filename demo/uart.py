@@ -87,8 +87,10 @@ class UartTx(wiring.Component):
         count = Signal(range(d))       # clocks left in the current bit, minus one
         left = Signal(range(11))       # bits of the frame not finished, the current one included
         shreg = Signal(9)              # data bits then the stop bit, LSB first
+        # ``count == 0`` held in a register (set where the count steps down from 1; both reset
+        # together), so that the handshake and the count's reload do not wait for a compare
+        last_clock = Signal(init=1)
 
-        last_clock = count == 0
         m.d.comb += [
             self.i.ready.eq((left == 0) | ((left == 1) & last_clock)),
             self.busy.eq(left != 0),
@@ -99,17 +101,19 @@ class UartTx(wiring.Component):
                 shreg.eq(Cat(self.i.payload, 1)),
                 left.eq(10),
                 count.eq(d - 1),
+                last_clock.eq(0),
             ]
         with m.Elif(left != 0):
             with m.If(last_clock):
                 m.d.sync += [
                     left.eq(left - 1),
                     count.eq(d - 1),
+                    last_clock.eq(0),
                     self.tx.eq((left == 1) | shreg[0]),
                     shreg.eq(shreg >> 1),
                 ]
             with m.Else():
-                m.d.sync += count.eq(count - 1)
+                m.d.sync += [count.eq(count - 1), last_clock.eq(count == 1)]
         return m
 
 

@@ -1,6 +1,6 @@
 """iCEBreaker (iCE40UP5K-SG48): the default board.
 
-Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 27 MHz system clock. The full generator
+Clock: 12 MHz oscillator on pin 35 -> SB_PLL40_PAD -> 33 MHz system clock. The full generator
 (max_bits 8, every mode), synthesised with the UP5K's DSP blocks; the demo fills most of the
 part, and its Fmax over nextpnr seeds 1-5 and the logic cells used are in docs/boards.md's
 table (``make report``). The build places with seed 1.
@@ -19,7 +19,7 @@ BOARD = Board(
     platform=ICEBreakerPlatform,
     clock="clk12",
     clock_hz=12e6,
-    pll=Ice40Pll(divr=0, divf=71, divq=5, filter_range=1, pad=True),   # icepll -i 12 -o 27
+    pll=Ice40Pll(divr=0, divf=87, divq=5, filter_range=1, pad=True),   # icepll -i 12 -o 33
     connector=("pmod", 0),                                               # PMOD1A
     connector_label="PMOD1A",
     gate_pins=(("1", "2", "3"), ("7", "8", "9")),

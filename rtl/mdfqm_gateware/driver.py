@@ -447,7 +447,7 @@ class GateDriver(wiring.Component):
         drive_if_clear = Signal()
         m.d.comb += [
             cmd.eq(self.h),
-            drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop),
+            drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop),  # no fault
             drive.eq(drive_if_clear & ~fault_active),
         ]
         m.d.sync += [cmd_lat.eq(cmd), self.active.eq(drive)]
@@ -515,9 +515,9 @@ class GateDriver(wiring.Component):
         held = fault_prev | stop_prev               # the gates had left normal operation
         # the reaction becomes all off: on ALL_OFF, with no source high, or when a source
         # rises whose reaction is all off (with the fault high, it rises unless it was high)
-        kill_common = self.all_off | (rise_w & (w == 0))
+        kill_common = self.all_off | (rise_w & (w == 0))     # either reaction, all off
         kill_if_fault = kill_common | (~fault_prev & (f == 0))
-        kill_if_clear = kill_common | ~self.stop
+        kill_if_clear = kill_common | ~self.stop        # no fault: the watchdog's reaction
         m.d.comb += [
             now_if_fault.eq(Mux(kill_if_fault, 0, Mux(held, self.reaction, f))),
             now_if_clear.eq(Mux(kill_if_clear, 0, Mux(held, self.reaction, w))),

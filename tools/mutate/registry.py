@@ -395,11 +395,6 @@ READINGS: tuple[Reading, ...] = (
         "TIMEOUT with its bit 11 flipped while bit 14 is set, after 16,384 update starts "
         "without a reference (a TIMEOUT of 16,384 or more and updates to match)."),
     Reading(
-        "rtl/mdfqm_gateware/top.py@db3a74c3 top $mux#0 Y[7] cnot1/12",
-        "not equivalent, out of the runs' reach: WATCHDOG_TRIPS' next value has its bit 7 "
-        "flipped while its bit 12 is set, after 4,096 watchdog trips without a COUNT_CLEAR "
-        "(the 16-bit count is the register map's, whatever counter_width is)."),
-    Reading(
         "rtl/mdfqm_gateware/resolution.py@d841a694 core.quantiser $add#0 B[1] inv",
         "the offset `2 max(T) + NF / 2**b` of a g = 0 update gains 2 (bit 1 of the constant is "
         "0 for every b <= 8), so each instant `V_i = offset - 2 T_i` moves up by 2, its "
