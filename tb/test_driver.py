@@ -110,8 +110,8 @@ async def driver_long_times(dut):
     minimum pulse, turn-ons after the dead time, and in each round DEAD lowered while a leg
     waits out the round's: it waits for the remembered one), then the largest dead time with
     the legs disabled for longer than the counters saturate, and enabled: the commanded
-    switches turn on at once. Last: the long dead
-    time stays in force after it (it is never shortened)."""
+    switches turn on at once. Last: the long dead time stays in force after it (it is never
+    shortened)."""
     await run_scenario(dut, "long_times", long_times_cycles(params()["time_width"]))
 
 
