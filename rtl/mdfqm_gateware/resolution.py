@@ -48,23 +48,6 @@ def _table(m, values, index, shape, name):
     return Cat(*bits).as_signed() if shape.signed else Cat(*bits)
 
 
-def _sum_tree(m, terms, stages, shape, name):
-    """Registered binary adder tree over ``terms`` in exactly ``stages`` clocks (one adder, i.e.
-    one carry chain, per stage; short branches are padded with plain registers)."""
-    level = list(terms)
-    for stage in range(stages):
-        nxt = []
-        for k in range(0, len(level), 2):
-            pair = level[k:k + 2]
-            reg = Signal(shape, name=f"{name}_s{stage}_{k // 2}")
-            m.d.sync += reg.eq(pair[0] + pair[1] if len(pair) == 2 else pair[0])
-            nxt.append(reg)
-        level = nxt
-    if len(level) != 1:
-        raise ValueError(f"{name}: {len(terms)} terms do not fit {stages} stages")
-    return level[0]
-
-
 class Quantiser(wiring.Component):
     """Slot counts of one gamma-mode update, their mean feedback and the centred layout bounds.
 
@@ -83,9 +66,13 @@ class Quantiser(wiring.Component):
        after ``b`` bits the rest are forced to 0): ``m_i = q_i 2**(B - b)``; of ``V_i`` and
        ``2 NF`` both shifted right by the bits below every boundary ``j 2 NF / 2**B`` (which
        no quotient depends on);
-    5. ``ceil(log2 N)`` clocks of sums over the legs (``sum m``, ``N m_i``), and alongside
-       the layout bounds ``lo_i = floor(q_i / 2) 2**(B - b)``, ``hi_i = lo_i + (2**B - m_i)``;
-    6. the feedback ``U_i / (FULL / 2**B) = sum_k m_k - N m_i``.
+    5. alongside the division, one clock behind it, the feedback
+       ``U_i / (FULL / 2**B) = sum_k m_k - N m_i``, most significant quotient bit first
+       (doubled, plus the bits of the step: no sums over the legs after the division);
+    6. the layout bounds ``lo_i = floor(q_i / 2) 2**(B - b)``, ``hi_i = lo_i + (2**B - m_i)``
+       (one adder); the outputs are presented ``ceil(log2 N) + 1`` clocks after the
+       division's last quotient bit (the latency the contract fixes: the feedback and the
+       bounds are final before, and hold until the next load).
 
     Slot indices are scaled to ``2**B`` (slot ``j`` is ``j 2**(B - b)``), so no shift by the
     runtime ``b`` is needed anywhere but in small registered tables.
@@ -164,7 +151,6 @@ class Quantiser(wiring.Component):
         n, c, bmax = self.phases, self.contract, self.max_bits
         nf = c.unit
         div = 2 * nf
-        tree = ceil_log2(n)
         b_range = range(bmax + 1)
 
         # ---- per-update constants of b (registered lookups; b is still through the update)
@@ -244,22 +230,41 @@ class Quantiser(wiring.Component):
                 ]
             quotients.append(Cat(q, top))
 
-        # ---- stage 6: sums over the legs, layout bounds
-        count = unsigned((n << bmax).bit_length())
-        total = _sum_tree(m, quotients, tree, count, "sum")
-        times_n = []
+        # ---- the feedback, accumulated one clock behind the division, most significant
+        # quotient bit first: U_i = sum_k m_k - N m_i, doubled and added to at each step from
+        # the bits the step registered (no sums over the legs after the division, and no
+        # carry chain behind the divider's in one clock). It is final ``ceil(log2 N)``
+        # clocks before o_valid and holds until the next load.
+        loaded, stepped = Signal(name="loaded"), Signal(name="stepped")
+        m.d.sync += [loaded.eq(load), stepped.eq(~load & (run != 0))]
+        # the count of set bits among the legs, and that count minus N, shared by the legs:
+        # a leg selects one (a multiplexer, so that its update is one adder)
+        step_shape = signed(signed_bits(-n, n))
+        counts = {}
+        for name, bits in (("tops", [q[-1] for q in quotients]),
+                           ("newest", [q[0] for q in quotients])):
+            ones, ones_minus_n = Signal(step_shape, name=f"{name}_set"), \
+                Signal(step_shape, name=f"{name}_set_minus_n")
+            m.d.comb += [ones.eq(sum(bits)), ones_minus_n.eq(ones - n)]
+            counts[name] = [Mux(bit, ones_minus_n, ones) for bit in bits]
         for i in range(n):
-            terms = [quotients[i] << k for k in range(n.bit_length()) if (n >> k) & 1]
-            times_n.append(_sum_tree(m, terms, tree, count, f"n_times_m{i}"))
+            units = Signal(signed(self.units_width), name=f"units{i}")
+            step = Signal(step_shape, name=f"units_step{i}")
+            m.d.comb += step.eq(counts["newest"][i])
+            with m.If(loaded):
+                m.d.sync += units.eq(counts["tops"][i])
+            with m.Elif(stepped):
+                m.d.sync += units.eq((units << 1) + step)
+            m.d.comb += self.o_units[i].eq(units)
+        # ---- the layout bounds, from the final quotient: lo_i = floor(q_i / 2) (its bit
+        # below one slot cleared), hi_i = lo_i + 2**B - q_i
         for i in range(n):
             lo = Signal(unsigned(bmax + 1), name=f"lo{i}")
-            on = Signal(unsigned(bmax + 1), name=f"on{i}")
             hi = Signal(unsigned(bmax + 1), name=f"hi{i}")
             last = Signal(name=f"last{i}")
+            m.d.comb += lo.eq((quotients[i] >> 1) & lo_mask)
             m.d.sync += [
-                lo.eq((quotients[i] >> 1) & lo_mask),
-                on.eq((1 << bmax) - quotients[i]),
-                hi.eq(lo + on),
+                hi.eq(lo - quotients[i] + (1 << bmax)),
                 last.eq(quotients[i] == 0),
             ]
             m.d.comb += [
@@ -268,8 +273,6 @@ class Quantiser(wiring.Component):
                 self.o_first[i].eq(lo == 0),
                 self.o_last[i].eq(last),
             ]
-            # ---- stage 7: the feedback
-            m.d.sync += self.o_units[i].eq(total - times_n[i])
         m.d.comb += self.o_valid.eq(valid[-1])
         return m
 

@@ -121,57 +121,57 @@ SAMPLE: tuple[Sampled, ...] = (
     Sampled("core",
             "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 Y[0] const0",
             "row: a reference beat while one is pending"),
-    # rem.eq(Mux(fits, trial, rem << 1))
+    # hi.eq(lo - quotients[i] + (1 << bmax))
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@f6a5e4a9 quantiser $mux#2 A[4] const0",
+            "rtl/mdfqm_gateware/resolution.py@00804d4c quantiser $add#1 A[5] inv",
             "datapath"),
-    # more.eq(self.i_bbit & (self.i_slots != 0))
+    # after.eq(self.i_delta * 2)
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@03d41c76 layout $reduce_bool#0 Y[0] const0",
+            "rtl/mdfqm_gateware/resolution.py@a7111a27 layout $mul#0 B[1] inv",
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[2] const0",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[0] inv",
             "row: illegal generator `mode`"),
-    # 'upper': Out(phases)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
-            "pin polarity"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
             "pin polarity"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const1",
-            "two events in one clock"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const0",
-            "two events in one clock"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
+            "pin polarity"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const1",
+            "two events in one clock"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
+            "two events in one clock"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
             "row: any pair of pin polarities"),
     # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 A[9] const1",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 A[13] const1",
             "row: dead time below the elaboration floor"),
     # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $ge#0 B[9] inv",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $ge#0 B[12] inv",
             "row: a commanded pulse shorter than the minimum pulse"),
     # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $xor#0 B[0] cnot0/1",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 B[2] inv",
             "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # m.d.comb += fault_active.eq(self.fault_input | self.fault)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 B[0] inv",
+            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 A[0] const1",
             "row: fault input chatter, fault during a dead time"),
     # drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2c51e235 top $mux#0 A[0] const0",
+            "rtl/mdfqm_gateware/driver.py@2c51e235 top $and#0 Y[0] inv",
             "row: enable toggled in the middle of an update"),
     # now_if_fault.eq(Mux(kill_if_fault, 0, Mux(held, self.reaction, f)))
     Sampled("driver",
@@ -181,29 +181,29 @@ SAMPLE: tuple[Sampled, ...] = (
     Sampled("top_wb",
             "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
             "pin polarity"),
-    # 'upper': Out(1)
+    # 'lower': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg0 $dff#0 Q[0] inv",
             "pin polarity"),
-    # request.eq(bus.cyc & bus.stb & ~bus.ack)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
-    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[8] const1",
-            "two events in one clock"),
-    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[3] const1",
-            "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
+            "bus handshake (cyc or stb alone)"),
+    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#2 Y[1] inv",
+            "two events in one clock"),
+    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[8] const1",
+            "two events in one clock"),
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 Y[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
@@ -211,19 +211,19 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[3] inv",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[0] const1",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 B[2] cnot1/1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[2] const0",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 B[7] inv",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 B[15] const1",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@c07b0f4d top $and#3 Y[0] const0",
+            "rtl/mdfqm_gateware/top.py@c07b0f4d top $ge#0 A[0] const0",
             "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
@@ -265,12 +265,6 @@ READINGS: tuple[Reading, ...] = (
         "(`phase` >= 256); its only reader, the sync restart's `phase >= latency - 1`, holds "
         "either way, unless the mutated count wraps past 65535 inside one update (an update of "
         "more than about 64,500 clocks) and a sync arrives in the few clocks after the wrap."),
-    Reading(
-        "rtl/mdfqm_gateware/resolution.py@24f01f3e quantiser $and#0 B[0] cnot0/2",
-        "bit 0 of the slot-grid mask `lo_mask` (set only for b = 8) is inverted while its bit 2 "
-        "is clear (b < 6), so `lo = (m >> 1) & lo_mask` takes bit 1 of the quotient `m` too. At "
-        "b < 6 the quotient's low B - b >= 3 bits are 0 (after its b-th step the divider shifts "
-        "in zeros: `fits & (want != 0)`), so that bit is 0 and `lo` is unchanged."),
     Reading(
         "rtl/mdfqm_gateware/resolution.py@9dbd1841 core.quantiser $dff#0 Q[3] cnot0/7",
         _HI_PAST_LAST.format(what="bit 3 of the quantiser's `hi` of leg 0 is inverted while its "
