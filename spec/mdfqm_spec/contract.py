@@ -206,7 +206,9 @@ def resolution_latency(phases: int, max_bits: int) -> int:
 
     1 (T = X + R) + depth(sort1) + 1 (max + min) + 1 (zero split and offsets) + 1 (per-leg
     instants) + 1 (clamp, divider load) + max_bits (restoring division, one quotient bit a clock)
-    + ceil(log2 N) (sums over the legs) + 1 (feedback) + 1 (integrator commit / presentation).
+    + ceil(log2 N) (once the sums over the legs: the quantiser now accumulates the feedback
+    alongside the division and is done early, the latency is kept) + 1 (feedback) + 1
+    (integrator commit / presentation).
     """
     if isinstance(phases, bool) or not isinstance(phases, int) or phases < MIN_PHASES:
         raise ValueError(f"phases must be an integer >= {MIN_PHASES}, not {phases!r}")
