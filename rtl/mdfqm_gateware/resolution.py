@@ -235,8 +235,9 @@ class Quantiser(wiring.Component):
         # the bits the step registered (no sums over the legs after the division, and no
         # carry chain behind the divider's in one clock). It is final ``ceil(log2 N)``
         # clocks before o_valid and holds until the next load.
-        loaded, stepped = Signal(name="loaded"), Signal(name="stepped")
-        m.d.sync += [loaded.eq(load), stepped.eq(~load & (run != 0))]
+        loaded = valid[4]                  # the clock after the load
+        stepped = Signal(name="stepped")   # the clock after a division step
+        m.d.sync += stepped.eq(~load & (run != 0))
         # the count of set bits among the legs, and that count minus N, shared by the legs:
         # a leg selects one (a multiplexer, so that its update is one adder)
         step_shape = signed(signed_bits(-n, n))

