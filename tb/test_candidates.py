@@ -7,12 +7,12 @@ rules: every output on every clock, one clock of latency."""
 import cocotb
 import pytest
 
-from mdfqm_gateware.selector import Candidates
+from mdfqm_gateware.selector import Candidates, values_held_inverted
 from mdfqm_model.update import candidates
 from mdfqm_spec.contract import Contract
 from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
-CASES = [(3, 16, "largest_duty"), (5, 12, "exact_nearest")]
+CASES = [(3, 16, "largest_duty"), (5, 12, "exact_nearest"), (6, 16, "largest_duty")]
 
 
 def sorted_vectors(rng, contract, cycles):
@@ -41,19 +41,35 @@ async def candidates_random_and_extremes(dut):
     rng = seeded_rng(dut, "candidates_random_and_extremes")
     rhos = sorted_vectors(rng, c, 1500)
     valid = [rng.randint(0, 1) for _ in rhos]
-    want = [[0] * c.phases] + [candidates(rho, c, p["rule"]) for rho in rhos[:-1]]
+    # the values sort2 takes inverted are given so; every register is 0 (as given) after reset
+    inverted = values_held_inverted(c.phases)
+    want = [[0] * c.phases] + [[~v if j in inverted else v
+                                for j, v in enumerate(candidates(rho, c, p["rule"]))]
+                               for rho in rhos[:-1]]
+    # the positions the port takes inverted (sort1 gives them so)
+    rho_inverted = {int(x) for x in p["rho_inverted"].split("_") if x}
+    given = [[~v if j in rho_inverted else v for j, v in enumerate(rho)] for rho in rhos]
     await start(dut)
     await check_cycles(
-        dut, {"i_rho": [pack(r, c.t_width) for r in rhos], "i_valid": valid},
+        dut, {"i_rho": [pack(r, c.t_width) for r in given], "i_valid": valid},
         {"o_values": want, "o_valid": [0, *valid[:-1]]},
         decode={"o_values": lambda w: unpack(w, p["value_width"], c.phases)})
 
 
 @pytest.mark.parametrize(("phases", "width", "rule"), CASES)
 def test_candidates(phases, width, rule):
-    value_width = Candidates(phases, width, rule).value_width
+    block = Candidates(phases, width, rule)
     run_block(lambda: Candidates(phases, width, rule), "candidates", "test_candidates",
-              {"phases": phases, "width": width, "rule": rule, "value_width": value_width})
+              {"phases": phases, "width": width, "rule": rule, "value_width": block.value_width,
+               "rho_inverted": "_".join(map(str, sorted(block.rho_inverted)))})
+
+
+@pytest.mark.parametrize(("phases", "rule", "inverted"), [
+    (3, "largest_duty", {1}), (6, "largest_duty", {1, 3}), (7, "largest_duty", {1, 3, 5}),
+    (5, "exact_nearest", set())])
+def test_candidates_take_every_other_rho_inverted_for_the_duties(phases, rule, inverted):
+    # each duty rho_(j-1) - rho_j with one operand inverted; the first and last rho as they are
+    assert Candidates(phases, 16, rule).rho_inverted == inverted
 
 
 def test_candidates_latency():

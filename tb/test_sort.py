@@ -10,7 +10,9 @@ from mdfqm_gateware.sort import SortNetwork
 from mdfqm_model.update import sort1
 from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
-CASES = [(n, 16) for n in (3, 4, 5, 6, 9)] + [(3, 12), (3, 18), (5, 12)]
+CASES = [(n, 16, ()) for n in (3, 4, 5, 6, 9)] + [(3, 12, ()), (3, 18, ()), (5, 12, ())]
+#: outputs given inverted, as the candidates take them (selector.rho_held_inverted), and others
+INVERTED_CASES = [(3, 18, (1,)), (6, 16, (1, 3)), (5, 12, (0, 4))]
 
 
 def make_stimulus(rng, count, width, cycles):
@@ -36,18 +38,22 @@ def make_stimulus(rng, count, width, cycles):
 async def sort_random_and_ties(dut):
     p = params()
     count, width, latency = p["count"], p["width"], p["latency"]
+    inverted = {int(x) for x in p.get("inverted", "").split("_") if x}   # given as ~value
     rng = seeded_rng(dut, "sort_random_and_ties")
     vectors = make_stimulus(rng, count, width, 2000)
     valid = [rng.randint(0, 1) for _ in vectors]
     index_width = max(1, (count - 1).bit_length())
     want_values, want_index, want_valid = [], [], []
     for cycle in range(len(vectors)):
-        # after reset the pipeline holds the sort of all-zero values (the identity permutation)
-        sorted_input = vectors[cycle - latency] if cycle >= latency else [0] * count
-        rho, perm = sort1(sorted_input)
-        want_values.append(list(rho))
+        if cycle < latency:     # the reset contents: unspecified, and not valid
+            want_values.append(None)
+            want_index.append(None)
+            want_valid.append(0)
+            continue
+        rho, perm = sort1(vectors[cycle - latency])
+        want_values.append([~v if p in inverted else v for p, v in enumerate(rho)])
         want_index.append(list(perm))
-        want_valid.append(valid[cycle - latency] if cycle >= latency else 0)
+        want_valid.append(valid[cycle - latency])
     await start(dut)
     await check_cycles(
         dut,
@@ -58,11 +64,14 @@ async def sort_random_and_ties(dut):
     )
 
 
-@pytest.mark.parametrize(("count", "width"), CASES)
-def test_sort(count, width):
+@pytest.mark.parametrize(("count", "width", "inverted"), CASES + INVERTED_CASES)
+def test_sort(count, width, inverted):
     latency = SortNetwork(count, width).latency
-    run_block(lambda: SortNetwork(count, width), "sort_network", "test_sort",
-              {"count": count, "width": width, "latency": latency})
+    params = {"count": count, "width": width, "latency": latency}
+    if inverted:
+        params["inverted"] = "_".join(map(str, inverted))      # a build folder's name
+    run_block(lambda: SortNetwork(count, width, inverted_outputs=inverted), "sort_network",
+              "test_sort", params)
 
 
 @pytest.mark.parametrize(("count", "width", "message"), [
@@ -74,3 +83,9 @@ def test_sort_rejects_bad_parameters(count, width, message):
     with pytest.raises(ValueError) as info:
         SortNetwork(count, width)
     assert str(info.value) == message
+
+
+def test_sort_rejects_an_inverted_output_it_does_not_have():
+    with pytest.raises(ValueError) as info:
+        SortNetwork(3, 16, inverted_outputs=(3,))
+    assert str(info.value) == "inverted_outputs must be positions in [0, 2], not [3]"

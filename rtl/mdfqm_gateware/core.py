@@ -137,8 +137,11 @@ def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamesp
     m.submodules.reference = reference = ReferenceStage(n, width)
     m.submodules.integrator = integrator = Integrator(n, width, unit_shift=unit_shift,
                                                       formal=formal, formal_sums=False)
-    m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal)
-    m.submodules.candidates = candidates = Candidates(n, width, component.rule)
+    # sort1 gives the candidates the values they subtract inverted (rho_held_inverted)
+    candidates = Candidates(n, width, component.rule)
+    m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal,
+                                             inverted_outputs=candidates.rho_inverted)
+    m.submodules.candidates = candidates
     m.submodules.sort2 = sort2 = ArgMax(n, candidate_width(n, width), formal=formal)
     m.submodules.decoder = decoder = StateDecoder(n, formal=formal, assume_inputs=False)
 

@@ -121,13 +121,19 @@ class LegDriver(wiring.Component):
         # run on as if held, the restart's values kept beside them and selected by it. So the
         # late restart, decided by the fault and reaction logic, ends in one flop a leg, not in
         # the count's 16 and the decisions' (the UP5K's Fmax path).
+        # The held count is kept inverted: ``count >= x`` is then ``x + ~count`` not carrying
+        # out, an addition of two registers as they are, where a compare with the count itself
+        # puts an inverter in front of every bit of the carry chain (a LUT a bit on the
+        # iCE40); its saturating increment is a decrement, whose carry out is the saturation
+        # test.
         restarted = Signal(init=1, reset_less=True)
-        count_held = Signal(tw, reset_less=True)        # count_next unless restarted
+        count_held_n = Signal(tw, reset_less=True)      # ~count_next unless restarted
+        count_held = ~count_held_n      # an expression: the invariants read it mid-settle
         count_next_now = Mux(restarted, 2, count_held)
         count_next = Signal(tw)
         m.d.comb += count_next.eq(count_next_now)
-        count_inc = Signal(tw + 1)
-        m.d.comb += count_inc.eq(count_held + 1)
+        count_dec = Signal(tw + 1)
+        m.d.comb += count_dec.eq(count_held_n + top)     # carries out unless saturated
         dt_run = Signal(tw, reset_less=True)
         # the decisions, registered both ways (after a restart, and with the state held):
         # count >= max(dt_run, dead_seen, dead_min) (read while off only), count < min_pulse_seen
@@ -169,16 +175,23 @@ class LegDriver(wiring.Component):
         m.d.comb += restart.eq(rst | (on ^ (nxt_up | nxt_lo)))
 
         def decisions(c, run_ok):
-            """(dead_elapsed, pulse_short) of the next clock if its count is ``c`` and
-            ``run_ok`` is its ``c >= dt_run``; every compare side by side."""
+            """(dead_elapsed, pulse_short) of the next clock if its count is the constant
+            ``c`` and ``run_ok`` is its ``c >= dt_run``; every compare side by side."""
             return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
+
+        def held_reaches(x):
+            """``count_held >= x`` for a ``tw``-bit ``x``: ``x + ~count_held`` fits ``tw``
+            bits."""
+            return ~(x + count_held_n)[tw]
 
         # a restart from on: dt_run of the next clock is dt (this one's)
         elapsed_restart, short_restart = decisions(1, Mux(on, dead_seen <= 1, dt_run <= 1))
         # a state held: dead_elapsed of an on state is never read (the next state of an on leg
         # does not depend on it), so only an off state's matters, whose dt_run stays; the
         # compares run on the held count, and on count 2 in the clock after a restart
-        elapsed_on_held, short_on_held = decisions(count_held, count_held >= dt_run)
+        elapsed_on_held = (held_reaches(self.dead) & (count_held_n <= top - self.dead_min)
+                           & held_reaches(dt_run))
+        short_on_held = ~held_reaches(self.min_pulse)
         elapsed_on_2, short_on_2 = decisions(2, dt_run <= 2)
         elapsed_hold = Mux(restarted, elapsed_on_2, elapsed_on_held)
         short_hold = Mux(restarted, short_on_2, short_on_held)
@@ -188,7 +201,7 @@ class LegDriver(wiring.Component):
             self.event.eq(~on & (nxt_up | nxt_lo)),
             restarted.eq(restart),
             # after a restart the count held on is 3 (count_next 2 plus one)
-            count_held.eq(Mux(restarted, 3, Mux(count_inc[tw], top, count_inc[:tw]))),
+            count_held_n.eq(Mux(restarted, top - 3, Mux(count_dec[tw], count_dec[:tw], 0))),
             elapsed_after_restart.eq(elapsed_restart),
             elapsed_held.eq(elapsed_hold),
             short_after_restart.eq(short_restart),

@@ -148,7 +148,7 @@ class GatingSignalGenerator(wiring.Component):
             sequencer.mode.eq(self.mode),
             sequencer.bits.eq(self.bits),
             quantiser.i_t.eq(integrator.o_t),
-            quantiser.i_max.eq(sort1.o_values[0]),
+            quantiser.i_max.eq(sort1.o_values[0]),     # neither given inverted
             quantiser.i_min.eq(sort1.o_values[n - 1]),
             # only long updates run the quantiser: a short one may end before it would finish
             quantiser.i_valid.eq(sort1.o_valid & sequencer.long),

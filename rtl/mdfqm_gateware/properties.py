@@ -5,12 +5,11 @@ from amaranth import Cat, Signal
 __all__ = ["delayed", "is_permutation"]
 
 
-def delayed(m, value, clocks: int, name: str, reset_less: bool = True):
+def delayed(m, value, clocks: int, name: str):
     """``value`` of ``clocks`` clocks earlier (what a block's output must be compared with
-    after its latency). ``reset_less=False``: the copies reset to 0 with the block's registers,
-    for invariants that must hold through a reset."""
+    after its latency)."""
     for stage in range(clocks):
-        registered = Signal.like(value, name=f"{name}_d{stage + 1}", reset_less=reset_less)
+        registered = Signal.like(value, name=f"{name}_d{stage + 1}", reset_less=True)
         m.d.sync += registered.eq(value)
         value = registered
     return value

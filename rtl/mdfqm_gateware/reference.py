@@ -65,7 +65,11 @@ class ReferenceStage(wiring.Component):
         busy, forming, full = Signal(), Signal(), Signal()
         which = Signal(n)
         phase_code = Signal(signed(self.width))
-        scaled = Signal(r_shape)
+        # N c held inverted: R_i = ~(~(N c_i) + sum) is then an addition of two registers as
+        # they are (a subtraction puts an inverter in front of every bit of its carry chain),
+        # and the inversions are free in the sums' own logic. Loaded in every clock and read
+        # only while busy: no reset (one to all ones would cost the iCE40 an inverter a bit)
+        scaled_n = Signal(r_shape, reset_less=True)
 
         accept = self.ref.valid & self.ref.ready
         m.d.comb += self.ref.ready.eq(~(busy | full))
@@ -75,7 +79,8 @@ class ReferenceStage(wiring.Component):
         m.d.comb += phase_code.eq(functools.reduce(
             operator.or_, (Mux(which[i], raw[i], 0) for i in range(n))))
         # N c as shifted copies of c, one per set bit of N: no multiplier
-        m.d.sync += scaled.eq(sum(phase_code << k for k in range(n.bit_length()) if (n >> k) & 1))
+        m.d.sync += scaled_n.eq(~sum(phase_code << k for k in range(n.bit_length())
+                                     if (n >> k) & 1))
         with m.If(busy):
             m.d.sync += which.eq(which.rotate_left(1))
             with m.If(which[0]):
@@ -84,7 +89,7 @@ class ReferenceStage(wiring.Component):
                 m.d.sync += total.eq(total + phase_code)
             with m.Else():
                 m.d.sync += [pending[i].eq(pending[i + 1]) for i in range(n - 1)]
-                m.d.sync += pending[n - 1].eq(scaled - total)
+                m.d.sync += pending[n - 1].eq(~(scaled_n + total))
                 with m.If(which[0]):
                     m.d.sync += [busy.eq(0), full.eq(1)]
 

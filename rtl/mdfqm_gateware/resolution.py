@@ -181,8 +181,12 @@ class Quantiser(wiring.Component):
 
         # ---- stage 2: the svpwm offset, then the zero split selects (after the adders)
         g_zero = is_dpwm0 | (is_dpwm & ~sum_mm[-1])
-        offset = Signal(wide)
-        m.d.sync += offset.eq(Mux(is_svpwm, sum_mm + k_tab[1], Mux(g_zero, ofs["o0"], ofs["o2"])))
+        # held inverted: ``V_i = ~(2 T_i + ~offset)`` is then an addition of the registers as
+        # they are (a subtraction would put an inverter in front of every bit of its carry
+        # chain); the inversion of its sum is free in the sum's own logic
+        offset_n = Signal(wide)
+        m.d.sync += offset_n.eq(~Mux(is_svpwm, sum_mm + k_tab[1],
+                                     Mux(g_zero, ofs["o0"], ofs["o2"])))
 
         # ---- stage 3: per-leg instants; stage 4: clamped, loaded into the divider
         valid = [self.i_valid]
@@ -206,7 +210,7 @@ class Quantiser(wiring.Component):
         for i in range(n):
             t2 = self.i_t[i] * 2
             v = Signal(wide, name=f"v{i}")
-            m.d.sync += v.eq(offset - t2)
+            m.d.sync += v.eq(~(t2 + offset_n))
             # V >= 2 NF: the top quotient bit (a compare of a register with a constant, logic on
             # its bits, no carry chain)
             beyond = ~v[-1] & at_least(v[:-1], div)

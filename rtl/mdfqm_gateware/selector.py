@@ -9,10 +9,10 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import ARGMAX_GROUP, Contract, argmax_stages, signed_bits, validate_rule
 from mdfqm_spec.validate import validate_bool, validate_positive
 
-from .arith import greater, greater_equal
 from .properties import delayed, is_permutation
 
-__all__ = ["ArgMax", "Candidates", "StateDecoder", "candidate_width"]
+__all__ = ["ArgMax", "Candidates", "StateDecoder", "candidate_width", "rho_held_inverted",
+           "values_held_inverted"]
 
 
 def candidate_width(phases: int, width: int) -> int:
@@ -21,6 +21,44 @@ def candidate_width(phases: int, width: int) -> int:
     t_max = 1 << (c.t_width - 1)
     bound = 2 * phases * t_max + c.full * phases * phases
     return signed_bits(-bound, bound)
+
+
+def rho_held_inverted(phases: int, rule: str) -> frozenset[int]:
+    """The positions of sort1's output the candidates take inverted (``~rho_j``).
+
+    A subtraction needs one operand inverted, and on the iCE40 an inverter in front of a carry
+    chain is a LUT a bit, while sort1 gives any output inverted at no cost. The duties
+    ``rho_{j-1} - rho_j`` take every other ``rho`` inverted (the odd positions); the first and
+    the last are never inverted (the b-bit quantiser takes them as they are, and ``d_0`` is an
+    addition of them). The exact scores add the ``rho``: none inverted."""
+    if rule != "largest_duty":
+        return frozenset()
+    return frozenset(range(1, phases - 1, 2))
+
+
+def values_held_inverted(count: int) -> frozenset[int]:
+    """The candidates given inverted to sort2 (``~value``): the odd positions of each group
+    of ``ARGMAX_GROUP``. sort2 compares every pair of a group; a compare of one value given
+    inverted and one not is an addition of the two as given (:func:`_at_least`), and the
+    candidates are sums, which give their value inverted at no cost."""
+    return frozenset(i for i in range(count) if i % ARGMAX_GROUP % 2 == 1)
+
+
+def _at_least(x, x_inverted: bool, y, y_inverted: bool):
+    """``x >= y`` of two values each given inverted or not: the sign of their
+    :func:`_difference`."""
+    return ~_difference(x, x_inverted, y, y_inverted)[-1]
+
+
+def _difference(x, x_inverted: bool, y, y_inverted: bool):
+    """``x - y`` of two values each given inverted or not: an addition of the two as given
+    when exactly one is inverted (``x + ~y + 1``, its carry in as a low bit set in both
+    operands; or ``~(~x + y)``)."""
+    if y_inverted and not x_inverted:
+        return (Cat(Const(1, 1), x).as_signed() + Cat(Const(1, 1), y).as_signed())[1:].as_signed()
+    if x_inverted and not y_inverted:
+        return ~(x + y)
+    return (~x if x_inverted else x) - (~y if y_inverted else y)
 
 
 class Candidates(wiring.Component):
@@ -33,10 +71,13 @@ class Candidates(wiring.Component):
     Ports
     -----
     i_rho : In(ArrayLayout(signed(t_width), phases))
-        Sorted optimum signal (sort1's output), largest first.
+        Sorted optimum signal (sort1's output), largest first; ``i_rho[j]`` is ``~rho_j`` (the
+        value inverted) for ``j`` in ``rho_inverted``.
     i_valid : In(1)
     o_values : Out(ArrayLayout(signed(candidate_width), phases))
-        Candidate values of ``i_rho`` one clock earlier.
+        Candidate values of ``i_rho`` one clock earlier; ``o_values[j]`` is the value inverted
+        (``~value``) for ``j`` in :func:`values_held_inverted` (as sort2 takes them). 0 after a
+        reset (as given).
     o_valid : Out(1)
         ``i_valid`` one clock earlier.
     """
@@ -46,6 +87,7 @@ class Candidates(wiring.Component):
         self.rule = validate_rule(rule, phases)
         self.phases, self.width = phases, width
         self.value_width = candidate_width(phases, width)
+        self.rho_inverted = rho_held_inverted(phases, self.rule)
         super().__init__({
             "i_rho": In(data.ArrayLayout(signed(self.contract.t_width), phases)),
             "i_valid": In(1),
@@ -59,16 +101,24 @@ class Candidates(wiring.Component):
         m = Module()
         n, c = self.phases, self.contract
         rho = [self.i_rho[i] for i in range(n)]
+        inverted = [j in self.rho_inverted for j in range(n)]
         if self.rule == "largest_duty":
-            values = [c.unit - (rho[0] - rho[n - 1])]
-            values += [rho[j - 1] - rho[j] for j in range(1, n)]
+            assert not inverted[0] and not inverted[n - 1]
+            # d_0 = (rho_N + N FULL) - rho_1 = ~(~(rho_N + N FULL) + rho_1): the first sum's
+            # inversion is free in its logic, but for its bits below N FULL's lowest set bit
+            # (rho_N's own, an inverter a bit: fewer than rho_1 - rho_N would take)
+            values = [_difference(~(rho[n - 1] + c.unit), True, rho[0], False)]
+            values += [_difference(rho[j - 1], inverted[j - 1], rho[j], inverted[j])
+                       for j in range(1, n)]
         else:
             values = [Const(0)]
             prefix = rho[0]
             for j in range(1, n):
                 values.append((prefix << 1) - c.full * j * (n - j))
                 prefix = prefix + rho[j]
-        m.d.sync += [self.o_values[j].eq(values[j]) for j in range(n)]
+        given_inverted = values_held_inverted(n)
+        m.d.sync += [self.o_values[j].eq(~values[j] if j in given_inverted else values[j])
+                     for j in range(n)]
         m.d.sync += self.o_valid.eq(self.i_valid)
         return m
 
@@ -83,6 +133,8 @@ class ArgMax(wiring.Component):
     Ports
     -----
     i_values : In(ArrayLayout(signed(width), count))
+        The candidates; ``i_values[i]`` is the value inverted (``~value``) for ``i`` in
+        :func:`values_held_inverted` (as the candidates give them).
     i_valid : In(1)
     o_index : Out(range(count))
         Position of the first maximum of ``i_values`` ``latency`` clocks earlier.
@@ -114,7 +166,10 @@ class ArgMax(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        entries = [(self.i_values[i], Const(i, range(self.count))) for i in range(self.count)]
+        given_inverted = values_held_inverted(self.count)
+        # (value as given, given inverted, index); a stage's winners are held as they are
+        entries = [(self.i_values[i], i in given_inverted, Const(i, range(self.count)))
+                   for i in range(self.count)]
         valid = self.i_valid
         for stage in range(self.latency):
             winners = []
@@ -123,21 +178,23 @@ class ArgMax(wiring.Component):
                 value = Signal(signed(self.width), name=f"s{stage}_g{g}_value")
                 index = Signal(range(self.count), name=f"s{stage}_g{g}_index")
                 # Entries of a group are in increasing original position: an earlier one wins
-                # ties, a later one must be strictly larger.
-                for i, (v_i, x_i) in enumerate(group):
+                # ties, a later one must be strictly larger. One compare a pair.
+                before = {(i, j): _at_least(*group[i][:2], *group[j][:2])
+                          for i in range(len(group)) for j in range(i + 1, len(group))}
+                for i, (v_i, inv_i, x_i) in enumerate(group):
                     wins = Const(1)
-                    for j, (v_j, _) in enumerate(group):
+                    for j in range(len(group)):
                         if j < i:
-                            wins = wins & greater(v_i, v_j)
+                            wins = wins & ~before[j, i]
                         elif j > i:
-                            wins = wins & greater_equal(v_i, v_j)
+                            wins = wins & before[i, j]
                     with m.If(wins):
-                        m.d.sync += [value.eq(v_i), index.eq(x_i)]
-                winners.append((value, index))
+                        m.d.sync += [value.eq(~v_i if inv_i else v_i), index.eq(x_i)]
+                winners.append((value, False, index))
             next_valid = Signal(name=f"s{stage}_valid")
             m.d.sync += next_valid.eq(valid)
             entries, valid = winners, next_valid
-        m.d.comb += [self.o_index.eq(entries[0][1]), self.o_valid.eq(valid)]
+        m.d.comb += [self.o_index.eq(entries[0][2]), self.o_valid.eq(valid)]
         if self.formal:
             self._properties(m)
         return m
@@ -147,8 +204,11 @@ class ArgMax(wiring.Component):
         clock (what the decoder relies on), and a valid one is the first maximum of ``i_values``
         of ``latency`` clocks earlier."""
         m.d.comb += Assert(self.o_index < self.count, "sort2's index is not a candidate")
-        values = delayed(m, self.i_values, self.latency, "formal_values")
-        best = Array(values[i] for i in range(self.count))[self.o_index]
+        delayed_values = delayed(m, self.i_values, self.latency, "formal_values")
+        given_inverted = values_held_inverted(self.count)
+        values = [~delayed_values[i] if i in given_inverted else delayed_values[i]
+                  for i in range(self.count)]
+        best = Array(values)[self.o_index]
         for i in range(self.count):
             m.d.comb += Assert(
                 ~self.o_valid | (values[i] < best) | ((values[i] == best) & (self.o_index <= i)),

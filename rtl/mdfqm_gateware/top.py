@@ -461,14 +461,23 @@ class MdfqmTop(wiring.Component):
         """The reference watchdog: ``(latch, trip strobe, quiet)``. ``quiet`` counts the update
         starts since the last reference arrival (held at 0 while off or tripped); the start that
         finds ``quiet >= TIMEOUT`` without an arrival seen (registered) in its clock trips it."""
-        quiet = Signal(16)
+        # the count is held inverted: ``quiet >= timeout`` is then ``timeout + ~quiet`` not
+        # carrying out, an addition of two registers as they are (a compare would put an
+        # inverter in front of every bit of its carry chain); the saturating increment is a
+        # decrement, whose carry out is the saturation test. No reset (a reset to all ones
+        # costs the iCE40 an inverter a bit): TIMEOUT resets to 0, which zeroes the count on
+        # the clock after the reset, before any write can make TIMEOUT nonzero
+        quiet_n = Signal(16, reset_less=True)
+        quiet_dec = Signal(17)
+        m.d.comb += quiet_dec.eq(quiet_n + 0xFFFF)          # carries out unless saturated
         tripped = Signal()
         trip = Signal()
-        m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
+        m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival
+                            & ~(timeout + quiet_n)[16])
         with m.If(arrival | (timeout == 0) | tripped | trip):
-            m.d.sync += quiet.eq(0)
+            m.d.sync += quiet_n.eq(0xFFFF)
         with m.Elif(start):
-            m.d.sync += quiet.eq(_saturate(quiet + 1, 0xFFFF))
+            m.d.sync += quiet_n.eq(Mux(quiet_dec[16], quiet_dec[:16], 0))
         with m.If(trip):
             m.d.sync += tripped.eq(1)
         with m.Elif(clear):
@@ -479,7 +488,7 @@ class MdfqmTop(wiring.Component):
         m.d.comb += [kept.eq(Mux(count_clear, 0, trips)),
                      counted.eq(Mux(kept == 0xFFFF, kept, kept + 1))]
         m.d.sync += trips.eq(Mux(trip, counted, kept))
-        return tripped, trip, quiet
+        return tripped, trip, ~quiet_n
 
     def _watchdog_properties(self, m, start, arrival, timeout, state, clears, driver):
         """Gates off the clock after the latch is seen (two after the tripping start), held
@@ -520,8 +529,8 @@ class MdfqmTop(wiring.Component):
                    "watchdog latch cleared without CMD.WATCHDOG_CLEAR"),
             Assert(tripped_prev | ~tripped | (start_prev & armed_prev),
                    "watchdog tripped other than at an update start after TIMEOUT quiet ones"),
-            Assert(tripped | (quiet == Mux(ghost > 0xFFFF, 0xFFFF, ghost)),
-                   "invariant: the watchdog's count is the ghost's"),
+            Assert(tripped | (timeout == 0) | (quiet == Mux(ghost > 0xFFFF, 0xFFFF, ghost)),
+                   "invariant: the watchdog's count is the ghost's while it runs"),
             Cover(tripped & ~tripped_prev),
             Cover(tripped_prev & ~tripped),
         ]

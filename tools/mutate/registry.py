@@ -83,99 +83,99 @@ SAMPLE: tuple[Sampled, ...] = (
             "datapath"),
     # m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 B[39] inv",
+            "rtl/mdfqm_gateware/integrator.py@31a29f20 integrator $mux#0 B[3] cnot0/46",
             "row: reference beyond the linear range"),
     # m.d.sync += total.eq(total + phase_code)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 B[12] const0",
+            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 A[6] cnot0/0",
             "row: common-mode offset"),
-    # m.d.sync += pending[n - 1].eq(scaled - total)
+    # m.d.sync += pending[n - 1].eq(~(scaled_n + total))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@7049ffb4 reference $sub#0 Y[17] cnot1/1",
+            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $not#0 Y[11] const0",
             "row: extreme codes"),
-    # next_values[a].eq(Mux(a_first, values[a], values[b]))
+    # next_values[a].eq(Mux(a_first, *[_as_held(values[i], inverted[i], next_inverted[a]) f...
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@5e605890 sort1 $mux#1 Y[11] cnot0/2",
+            "rtl/mdfqm_gateware/sort.py@1409af8c sort1 $mux#1 Y[5] cnot1/14",
             "row: equal references (ties)"),
     # clamped = self.period < self.latency
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[6] const1",
+            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[9] cnot0/7",
             "row: update period below the loop latency"),
     # osr_now = Mux(self.osr == 0, 1, self.osr)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[1] const1",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[5] const0",
             "row: OSR 0"),
     # 'policy': Out(1)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 B[0] inv",
+            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 Y[0] const1",
             "row: runtime changes of period / OSR / zero policy / mode"),
     # ends = ~self.start & (self.sync_in & late | at_end)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@2ae2627a sequencer $and#1 A[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@2ae2627a sequencer $and#1 B[0] const0",
             "row: `sync_in` at any time"),
     # start_q, tick_q, sub_one = (Signal(init=1), Signal(init=1), Signal(init=1))
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#0 S[0] const1",
+            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#0 S[0] inv",
             "row: reset in the middle of an update"),
     # m.d.comb += self.ref.ready.eq(~(busy | full))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 Y[0] const0",
+            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 A[0] inv",
             "row: a reference beat while one is pending"),
     # hi.eq(lo - quotients[i] + (1 << bmax))
     Sampled("generator",
             "rtl/mdfqm_gateware/resolution.py@00804d4c quantiser $add#1 A[5] inv",
             "datapath"),
-    # after.eq(self.i_delta * 2)
+    # m.d.sync += offset_n.eq(~Mux(is_svpwm, sum_mm + k_tab[1], Mux(g_zero, ofs['o0'], ofs[...
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@a7111a27 layout $mul#0 B[1] inv",
+            "rtl/mdfqm_gateware/resolution.py@edc79bf7 quantiser $mux#1 Y[18] const0",
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[0] inv",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[0] const1",
             "row: illegal generator `mode`"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
+            "pin polarity"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
             "pin polarity"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const1",
+            "two events in one clock"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const0",
+            "two events in one clock"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
-            "pin polarity"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const1",
-            "two events in one clock"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
-            "two events in one clock"),
-    # 'upper': Out(phases)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
             "row: any pair of pin polarities"),
     # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 A[13] const1",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 A[11] const1",
             "row: dead time below the elaboration floor"),
     # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $ge#0 B[12] inv",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg0 $gt#1 A[7] inv",
             "row: a commanded pulse shorter than the minimum pulse"),
     # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 B[2] inv",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $and#1 B[0] cnot1/1",
             "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # m.d.comb += fault_active.eq(self.fault_input | self.fault)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 A[0] const1",
+            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 B[0] const0",
             "row: fault input chatter, fault during a dead time"),
     # drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2c51e235 top $and#0 Y[0] inv",
+            "rtl/mdfqm_gateware/driver.py@2c51e235 top $mux#0 B[0] inv",
             "row: enable toggled in the middle of an update"),
-    # now_if_fault.eq(Mux(kill_if_fault, 0, Mux(held, self.reaction, f)))
+    # kill_common = self.all_off | rise_w & (w == 0)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@68c499a9 top $mux#1 Y[1] const0",
+            "rtl/mdfqm_gateware/driver.py@7dcd647e top $and#0 B[0] inv",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
     # 'upper': Out(1)
     Sampled("top_wb",
@@ -187,43 +187,43 @@ SAMPLE: tuple[Sampled, ...] = (
             "pin polarity"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
-            "bus handshake (cyc or stb alone)"),
-    # request.eq(bus.cyc & bus.stb & ~bus.ack)
-    Sampled("top_wb",
             "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
             "bus handshake (cyc or stb alone)"),
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#2 Y[1] inv",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[15] const1",
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[8] const1",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[9] cnot0/28",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#1 Y[1] const0",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[1] const0",
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[0] const1",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[1] inv",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[2] const0",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[1] const1",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 B[15] const1",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 B[7] const1",
             "row: any value to any register"),
-    # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & (quiet >= timeout))
+    # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & ~(timeout + quiet_...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@c07b0f4d top $ge#0 A[0] const0",
+            "rtl/mdfqm_gateware/top.py@bec9afda top $and#3 A[0] const0",
             "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
@@ -231,7 +231,7 @@ SAMPLE: tuple[Sampled, ...] = (
             "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 B[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
@@ -239,11 +239,11 @@ SAMPLE: tuple[Sampled, ...] = (
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[1] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 A[4] const0",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[18] inv",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[19] const1",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample
@@ -282,14 +282,6 @@ READINGS: tuple[Reading, ...] = (
         "that needs `U_i < 0`, leg i off while another is on; but a `T_i` that large is the "
         "largest `T`, and every non-zero state the largest-duty rule can choose turns the leg "
         "of the largest `T` on."),
-    Reading(
-        "rtl/mdfqm_gateware/sort.py@d1779d07 sort1 $not#0 Y[1] cnot0/0",
-        "sort1's tie-break key of leg 1 (`~index`) drops below leg 2's, so equal values of legs "
-        "1 and 2 come out in the other order: the same values `rho`, so the same candidates "
-        "and the same `j*`, and the state differs only if `j*` splits the two equal legs. "
-        "Under the largest-duty rule that split is a duty `rho_j - rho_(j+1) = 0`, never the "
-        "largest (the duties sum to `N FULL > 0`); the ties scenario's aimed equal legs show "
-        "no difference."),
     Reading(
         "rtl/mdfqm_gateware/arith.py@7a1a5f4d sort1 $sub#1 B[15] const1",
         "sort1's second compare (the first layer's larger value against leg 2) reads that "
@@ -384,11 +376,6 @@ READINGS: tuple[Reading, ...] = (
         "not equivalent, out of the runs' reach: WATCHDOG_TRIPS bit 13 stuck at 0 shows after "
         "8,192 watchdog trips without a COUNT_CLEAR."),
     Reading(
-        "rtl/mdfqm_gateware/top.py@c07b0f4d top $ge#0 A[11] cnot1/14",
-        "not equivalent, out of the runs' reach: the watchdog's quiet count is compared with "
-        "TIMEOUT with its bit 11 flipped while bit 14 is set, after 16,384 update starts "
-        "without a reference (a TIMEOUT of 16,384 or more and updates to match)."),
-    Reading(
         "rtl/mdfqm_gateware/resolution.py@d841a694 core.quantiser $add#0 B[1] inv",
         "the offset `2 max(T) + NF / 2**b` of a g = 0 update gains 2 (bit 1 of the constant is "
         "0 for every b <= 8), so each instant `V_i = offset - 2 T_i` moves up by 2, its "
@@ -424,13 +411,6 @@ READINGS: tuple[Reading, ...] = (
         "does, and the slot layout reads it only when an update commits, at least L clocks "
         "after a reset: its reset value is never read (the reset could go, and this mutant "
         "with it)."),
-    Reading(
-        "rtl/mdfqm_gateware/sort.py@d1779d07 core.sort1 $not#1 Y[0] const1",
-        "sort1's tie-break key of one input of a compare is forced to favour it, so two equal "
-        "`T` come out in the other order: the same values `rho`, so the same candidates and "
-        "the same `j*`, and the state differs only if `j*` splits the two equal legs. Under the "
-        "largest-duty rule that split is a duty `rho_j - rho_(j+1) = 0`, never the largest "
-        "(the duties sum to `N FULL > 0`)."),
     Reading(
         "rtl/mdfqm_gateware/top.py@76bb7213 top $pmux#0 B[280] cnot1/150",
         "not equivalent, out of any simulation's reach: a read of WATCHDOG_TRIPS returns bit "

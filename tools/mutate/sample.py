@@ -102,8 +102,8 @@ ROWS = {
         "core": ("rtl/mdfqm_gateware/reference.py", r"total\.eq\(total \+ phase_code\)", ANY,
                  None)},
     "extreme codes": {
-        "core": ("rtl/mdfqm_gateware/reference.py", r"pending\[n - 1\]\.eq\(scaled - total\)",
-                 ANY, None)},
+        "core": ("rtl/mdfqm_gateware/reference.py",
+                 r"pending\[n - 1\]\.eq\(~\(scaled_n \+ total\)\)", ANY, None)},
     "equal references (ties)": {
         "core": ("rtl/mdfqm_gateware/sort.py", r"next_(values|index)\[a\]\.eq\(Mux\(a_first",
                  ANY, None)},
