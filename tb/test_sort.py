@@ -51,7 +51,7 @@ async def sort_random_and_ties(dut):
             want_valid.append(0)
             continue
         rho, perm = sort1(vectors[cycle - latency])
-        want_values.append([~v if p in inverted else v for p, v in enumerate(rho)])
+        want_values.append([~v if pos in inverted else v for pos, v in enumerate(rho)])
         want_index.append(list(perm))
         want_valid.append(valid[cycle - latency])
     await start(dut)
