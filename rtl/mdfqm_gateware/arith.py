@@ -6,9 +6,9 @@ Amaranth widens the difference by one bit, so its top bit is the true sign.
 """
 
 
-from amaranth import C
+from amaranth import C, Cat, Const
 
-__all__ = ["at_least", "greater", "greater_equal"]
+__all__ = ["as_held", "at_least", "at_least_given", "difference", "greater", "greater_equal"]
 
 
 def greater(a, b):
@@ -37,3 +37,25 @@ def at_least(value, constant: int):
         elif result is not None:
             result = value[k] | result
     return C(1, 1) if result is None else result
+
+
+def as_held(value, inverted: bool, wanted: bool):
+    """``value``, held inverted or not, as a register held the ``wanted`` way takes it."""
+    return ~value if inverted != wanted else value
+
+
+def at_least_given(x, x_inverted: bool, y, y_inverted: bool):
+    """``x >= y`` of two values each given inverted or not: the sign of their
+    :func:`difference`."""
+    return ~difference(x, x_inverted, y, y_inverted)[-1]
+
+
+def difference(x, x_inverted: bool, y, y_inverted: bool):
+    """``x - y`` of two values each given inverted or not: an addition of the two as given
+    when exactly one is inverted (``x + ~y + 1``, its carry in as a low bit set in both
+    operands; or ``~(~x + y)``)."""
+    if y_inverted and not x_inverted:
+        return (Cat(Const(1, 1), x).as_signed() + Cat(Const(1, 1), y).as_signed())[1:].as_signed()
+    if x_inverted and not y_inverted:
+        return ~(x + y)
+    return as_held(x, x_inverted, False) - as_held(y, y_inverted, False)

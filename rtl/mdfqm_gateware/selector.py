@@ -9,6 +9,7 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import ARGMAX_GROUP, Contract, argmax_stages, signed_bits, validate_rule
 from mdfqm_spec.validate import validate_bool, validate_positive
 
+from .arith import as_held, at_least_given, difference
 from .properties import delayed, is_permutation
 
 __all__ = ["ArgMax", "Candidates", "StateDecoder", "candidate_width", "rho_held_inverted",
@@ -39,26 +40,9 @@ def rho_held_inverted(phases: int, rule: str) -> frozenset[int]:
 def values_held_inverted(count: int) -> frozenset[int]:
     """The candidates given inverted to sort2 (``~value``): the odd positions of each group
     of ``ARGMAX_GROUP``. sort2 compares every pair of a group; a compare of one value given
-    inverted and one not is an addition of the two as given (:func:`_at_least`), and the
-    candidates are sums, which give their value inverted at no cost."""
+    inverted and one not is an addition of the two as given (``arith.at_least_given``), and
+    the candidates are sums, which give their value inverted at no cost."""
     return frozenset(i for i in range(count) if i % ARGMAX_GROUP % 2 == 1)
-
-
-def _at_least(x, x_inverted: bool, y, y_inverted: bool):
-    """``x >= y`` of two values each given inverted or not: the sign of their
-    :func:`_difference`."""
-    return ~_difference(x, x_inverted, y, y_inverted)[-1]
-
-
-def _difference(x, x_inverted: bool, y, y_inverted: bool):
-    """``x - y`` of two values each given inverted or not: an addition of the two as given
-    when exactly one is inverted (``x + ~y + 1``, its carry in as a low bit set in both
-    operands; or ``~(~x + y)``)."""
-    if y_inverted and not x_inverted:
-        return (Cat(Const(1, 1), x).as_signed() + Cat(Const(1, 1), y).as_signed())[1:].as_signed()
-    if x_inverted and not y_inverted:
-        return ~(x + y)
-    return (~x if x_inverted else x) - (~y if y_inverted else y)
 
 
 class Candidates(wiring.Component):
@@ -107,8 +91,8 @@ class Candidates(wiring.Component):
             # d_0 = (rho_N + N FULL) - rho_1 = ~(~(rho_N + N FULL) + rho_1): the first sum's
             # inversion is free in its logic, but for its bits below N FULL's lowest set bit
             # (rho_N's own, an inverter a bit: fewer than rho_1 - rho_N would take)
-            values = [_difference(~(rho[n - 1] + c.unit), True, rho[0], False)]
-            values += [_difference(rho[j - 1], inverted[j - 1], rho[j], inverted[j])
+            values = [difference(~(rho[n - 1] + c.unit), True, rho[0], False)]
+            values += [difference(rho[j - 1], inverted[j - 1], rho[j], inverted[j])
                        for j in range(1, n)]
         else:
             values = [Const(0)]
@@ -117,7 +101,7 @@ class Candidates(wiring.Component):
                 values.append((prefix << 1) - c.full * j * (n - j))
                 prefix = prefix + rho[j]
         given_inverted = values_held_inverted(n)
-        m.d.sync += [self.o_values[j].eq(~values[j] if j in given_inverted else values[j])
+        m.d.sync += [self.o_values[j].eq(as_held(values[j], False, j in given_inverted))
                      for j in range(n)]
         m.d.sync += self.o_valid.eq(self.i_valid)
         return m
@@ -179,7 +163,7 @@ class ArgMax(wiring.Component):
                 index = Signal(range(self.count), name=f"s{stage}_g{g}_index")
                 # Entries of a group are in increasing original position: an earlier one wins
                 # ties, a later one must be strictly larger. One compare a pair.
-                before = {(i, j): _at_least(*group[i][:2], *group[j][:2])
+                before = {(i, j): at_least_given(*group[i][:2], *group[j][:2])
                           for i in range(len(group)) for j in range(i + 1, len(group))}
                 for i, (v_i, inv_i, x_i) in enumerate(group):
                     wins = Const(1)
@@ -189,7 +173,7 @@ class ArgMax(wiring.Component):
                         elif j > i:
                             wins = wins & before[i, j]
                     with m.If(wins):
-                        m.d.sync += [value.eq(~v_i if inv_i else v_i), index.eq(x_i)]
+                        m.d.sync += [value.eq(as_held(v_i, inv_i, False)), index.eq(x_i)]
                 winners.append((value, False, index))
             next_valid = Signal(name=f"s{stage}_valid")
             m.d.sync += next_valid.eq(valid)
@@ -206,8 +190,7 @@ class ArgMax(wiring.Component):
         m.d.comb += Assert(self.o_index < self.count, "sort2's index is not a candidate")
         delayed_values = delayed(m, self.i_values, self.latency, "formal_values")
         given_inverted = values_held_inverted(self.count)
-        values = [~delayed_values[i] if i in given_inverted else delayed_values[i]
-                  for i in range(self.count)]
+        values = [as_held(delayed_values[i], i in given_inverted, False) for i in range(self.count)]
         best = Array(values)[self.o_index]
         for i in range(self.count):
             m.d.comb += Assert(

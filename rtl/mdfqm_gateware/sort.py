@@ -8,7 +8,7 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import sorting_network
 from mdfqm_spec.validate import validate_bool, validate_positive
 
-from .arith import greater
+from .arith import as_held, greater
 from .properties import is_permutation
 
 __all__ = ["SortNetwork"]
@@ -29,11 +29,6 @@ def _first(value_a, index_a, inverted_a, value_b, index_b, inverted_b):
     if inverted_b and not inverted_a:
         return ~(key_a + Cat(index_b, value_b).as_signed())[-1]
     return greater(key_a, key_b)
-
-
-def _as_held(value, inverted: bool, wanted: bool):
-    """``value``, held inverted or not, as a register held the ``wanted`` way takes it."""
-    return ~value if inverted != wanted else value
 
 
 def held_inverted(layers, count: int, outputs=frozenset()) -> list[list[bool]]:
@@ -175,9 +170,9 @@ class SortNetwork(wiring.Component):
                                  inverted[b])
                 m.d.sync += [
                     next_values[a].eq(Mux(a_first, *[
-                        _as_held(values[i], inverted[i], next_inverted[a]) for i in (a, b)])),
+                        as_held(values[i], inverted[i], next_inverted[a]) for i in (a, b)])),
                     next_values[b].eq(Mux(a_first, *[
-                        _as_held(values[i], inverted[i], next_inverted[b]) for i in (b, a)])),
+                        as_held(values[i], inverted[i], next_inverted[b]) for i in (b, a)])),
                     next_index[a].eq(Mux(a_first, index[a], index[b])),
                     next_index[b].eq(Mux(a_first, index[b], index[a])),
                 ]
@@ -187,11 +182,11 @@ class SortNetwork(wiring.Component):
             m.d.sync += next_valid.eq(valid)
             values, index, valid = next_values, next_index, next_valid
             inverted = next_inverted
-            stages.append(([_as_held(v, inv, False) for v, inv in zip(values, inverted,
+            stages.append(([as_held(v, inv, False) for v, inv in zip(values, inverted,
                                                                      strict=True)], index))
         for i in range(self.count):
             m.d.comb += [
-                self.o_values[i].eq(_as_held(values[i], inverted[i],
+                self.o_values[i].eq(as_held(values[i], inverted[i],
                                              i in self.inverted_outputs)),
                 self.o_index[i].eq(index[i]),
             ]

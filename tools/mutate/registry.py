@@ -93,9 +93,9 @@ SAMPLE: tuple[Sampled, ...] = (
     Sampled("core",
             "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $not#0 Y[11] const0",
             "row: extreme codes"),
-    # next_values[a].eq(Mux(a_first, *[_as_held(values[i], inverted[i], next_inverted[a]) f...
+    # next_values[a].eq(Mux(a_first, *[as_held(values[i], inverted[i], next_inverted[a]) fo...
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@1409af8c sort1 $mux#1 Y[5] cnot1/14",
+            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 Y[0] const0",
             "row: equal references (ties)"),
     # clamped = self.period < self.latency
     Sampled("core",
