@@ -34,14 +34,14 @@ async def decoder_every_winner_and_policy(dut):
     valid = [rng.randint(0, 1) for _ in perms]
     states = [decode(p, j, pol, prev, n) for p, j, pol, prev in zip(perms, js, policies, prevs,
                                                                       strict=True)]
-    units = [[u // c.full for u in feedback(h, c)] for h in states]
+    units_n = [[~(u // c.full) for u in feedback(h, c)] for h in states]     # given inverted
     await start(dut)
     await check_cycles(
         dut, {"i_perm": [pack(p, index_width) for p in perms], "i_j": js,
               "i_policy": policies, "i_h_prev": prevs, "i_valid": valid},
-        {"o_h": [0, *states[:-1]], "o_units": [[0] * n, *units[:-1]],
+        {"o_h": [0, *states[:-1]], "o_units_n": [[0] * n, *units_n[:-1]],
          "o_valid": [0, *valid[:-1]]},
-        decode={"o_units": lambda w: unpack(w, params()["units_width"], n)})
+        decode={"o_units_n": lambda w: unpack(w, params()["units_width"], n)})
 
 
 @pytest.mark.parametrize("phases", [3, 4])          # odd and even: the zero policy's half

@@ -25,7 +25,7 @@ async def integrator_starts_commits_and_bound(dut):
     n, units_max, units_width = c.phases, p["units_max"], p["units_width"]
     rng = seeded_rng(dut, "integrator_starts_commits_and_bound")
     x, t, saturated = [0] * n, [0] * n, 0
-    inputs = {"rst": [], "i_start": [], "i_r": [], "i_commit": [], "i_units": []}
+    inputs = {"rst": [], "i_start": [], "i_r": [], "i_commit": [], "i_units_n": []}
     want = {"o_t": [], "o_x": [], "o_saturated": []}
     for cycle in range(3000):
         big = cycle % 600 > 400                    # overmodulated stretches: the bound is hit
@@ -37,8 +37,9 @@ async def integrator_starts_commits_and_bound(dut):
                  for _ in range(n)]
         start_, commit = int(rng.random() < 0.3), int(rng.random() < 0.3)
         rst = int(rng.random() < 0.002)
+        units_n = pack([~u for u in units], units_width)       # the port takes it inverted
         for name, value in (("rst", rst), ("i_start", start_), ("i_r", pack(r, c.r_width)),
-                            ("i_commit", commit), ("i_units", pack(units, units_width))):
+                            ("i_commit", commit), ("i_units_n", units_n)):
             inputs[name].append(value)
         want["o_t"].append(list(t))
         want["o_x"].append(list(x))

@@ -28,7 +28,7 @@ def expected(t, mode, b, contract, big):
     lo = [((slots - on[i]) // 2) * delta for i in range(n)]
     hi = [lo[i] + on[i] * delta for i in range(n)]
     layout = centred_slots(on, slots)
-    return {"o_units": units, "o_lo": lo, "o_hi": hi, "o_first": layout[0],
+    return {"o_units_n": [~u for u in units], "o_lo": lo, "o_hi": hi, "o_first": layout[0],
             "o_last": layout[-1], "o_slots": slots - 1, "o_delta": delta}
 
 
@@ -40,7 +40,7 @@ async def quantiser_every_mode_and_b(dut):
     rng = seeded_rng(dut, "quantiser_every_mode_and_b")
     index = big + 1
     inputs = {k: [] for k in ("i_t", "i_max", "i_min", "i_valid", "i_mode", "i_bits")}
-    outs = ("o_units", "o_lo", "o_hi", "o_first", "o_last", "o_slots", "o_delta")
+    outs = ("o_units_n", "o_lo", "o_hi", "o_first", "o_last", "o_slots", "o_delta")
     want = {k: [] for k in (*outs, "o_valid")}
     window = latency + 3
     updates = [(mode, b) for mode in range(1, len(MODES)) for b in range(1, big + 1)] * 6
@@ -65,7 +65,7 @@ async def quantiser_every_mode_and_b(dut):
                 want[name].append(result[name] if present else None)
     await start(dut)
     await check_cycles(dut, inputs, want, decode={
-        "o_units": lambda w: unpack(w, p["units_width"], n),
+        "o_units_n": lambda w: unpack(w, p["units_width"], n),
         "o_lo": lambda w: unpack(w, index, n, signed=False),
         "o_hi": lambda w: unpack(w, index, n, signed=False)})
 

@@ -2,7 +2,8 @@
 """The update sequencer against the clock-level models' own sequencer (mdfqm_model.clock:
 CoreModel for the core's variant, GeneratorModel for the generator's), every output on every
 clock: update starts, sampling ticks, the clocks elapsed since the start, the latched
-period / OSR / policy / mode / b, the clamps, sync_in at every phase, long and short updates,
+period / OSR / policy / mode / b, the clamps (each minimum period and the one below it aimed),
+sync_in at every phase, long and short updates,
 resets mid-run."""
 
 # (line 1: components built only to be refused are never elaborated, on purpose)
@@ -12,7 +13,7 @@ import pytest
 
 from mdfqm_gateware.sequencer import UpdateSequencer
 from mdfqm_model.clock import CoreModel, GeneratorModel
-from mdfqm_spec.contract import loop_latency, resolution_latency
+from mdfqm_spec.contract import loop_latency, min_period, resolution_latency
 from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 # (phases, max_bits or None for the core's sequencer)
@@ -35,9 +36,15 @@ async def sequencer_against_the_clock_model(dut):
     want = {name: [] for name in outs}
     period = osr = 0
     mode = bits = 0
+    # the clamp's edges: each minimum period and the one below it (a long update's for every b)
+    edges = [latency - 1, latency]
+    if generator:
+        edges += sorted({min_period(True, b, latency, model.long_latency) + below
+                         for b in range(1, p["max_bits"] + 1) for below in (-1, 0)})
+    at_long_minimum = 0     # starts of a long update with the period at its minimum, unclamped
     for _ in range(4000):
         if rng.random() < 0.03:             # runtime changes, mostly small periods
-            period = rng.choice([0, 1, latency - 1, latency, latency + 3, rng.randrange(80),
+            period = rng.choice([0, 1, *edges, latency + 3, rng.randrange(80),
                                  0xFFFF if rng.random() < 0.05 else 20])
             osr = rng.choice([0, 1, 2, 3, 255 if rng.random() < 0.05 else 4])
             mode, bits = rng.randrange(8), rng.randrange(16)
@@ -57,9 +64,12 @@ async def sequencer_against_the_clock_model(dut):
                        period_clamped=out["period_clamped"], elapsed=out["elapsed"])
         if generator:
             visible["mode_clamped"] = out["mode_clamped"]
+            at_long_minimum += bool(out["start"] and model.long_lat and period == min_period(
+                True, model.bits_lat, latency, model.long_latency))
         for name in outs:
             want[name].append(visible[name])
     assert sum(want["start"]) > 200 and sum(want["tick"]) > 50
+    assert not generator or at_long_minimum > 5, f"{at_long_minimum} long starts at the minimum"
     await start(dut)
     await check_cycles(dut, inputs, want)
 

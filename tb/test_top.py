@@ -685,7 +685,10 @@ async def top_pair_sync(dut):
         settle = None
         for cycle in range(2500):
             if a.idle() and b.idle() and settle is None:
-                settle = a.cycle + 2 * period_b + 2
+                # b ignores a start of a's that falls in its own first L - 1 clocks, and
+                # drifts out of them by period_b - period_a clocks an update: pulled to a within
+                # L + 1 updates of b's (or in step with a from the start, at equal periods)
+                settle = a.cycle + (latency + 2) * period_b
             out_a = a.tick(sync_in=int(phase == 3 and rng.random() < 0.02))
             b.tick(sync_in=out_a["sync_out"])
             if cycle % 500 == 499:

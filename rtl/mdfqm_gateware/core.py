@@ -95,7 +95,7 @@ class MdfqmCore(wiring.Component):
         validate_positive(self.latency, "latency", minimum=1 + loop.sort1.latency + 3)
         m.d.comb += [
             loop.integrator.i_commit.eq(loop.decoder.o_valid),
-            loop.integrator.i_units.eq(loop.decoder.o_units),
+            loop.integrator.i_units_n.eq(loop.decoder.o_units_n),
         ]
         m.d.sync += self.update.eq(loop.decoder.o_valid)
         with m.If(loop.decoder.o_valid):
@@ -130,7 +130,7 @@ def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamesp
     ``2**unit_shift``), sort1, candidates, sort2, decoder (zero policy against ``h_prev``), fed
     by ``sequencer`` and ``component``'s ``ref``, ``period``, ``osr``, ``zero_policy``,
     ``sync_in``; drives its ``start``, ``sample``, ``saturated``, ``period_clamped``. The
-    caller wires the commit (``integrator.i_commit``, ``i_units``) and the outputs ``h`` and
+    caller wires the commit (``integrator.i_commit``, ``i_units_n``) and the outputs ``h`` and
     ``update``."""
     n, width, formal = component.phases, component.width, component.formal
     c = component.contract

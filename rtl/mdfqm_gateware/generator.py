@@ -1,6 +1,6 @@
 """The gating-signal generator: MDFQM, SVPWM, DPWM and any b-bit resolution between them."""
 
-from amaranth import Module, Mux, Signal, signed
+from amaranth import Cat, Const, Module, Mux, Signal, signed
 from amaranth.hdl import Assert, Cover
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
@@ -155,8 +155,10 @@ class GatingSignalGenerator(wiring.Component):
             quantiser.i_mode.eq(sequencer.mode_lat),
             quantiser.i_bits.eq(sequencer.bits_lat),
             integrator.i_commit.eq(commit),
-            [integrator.i_units[i].eq(Mux(bbit, quantiser.o_units[i],
-                                          decoder.o_units[i] * (1 << bmax)))
+            # both given inverted; ~(u 2**B) is ~u above B bits set
+            [integrator.i_units_n[i].eq(Mux(bbit, quantiser.o_units_n[i],
+                                            Cat(Const((1 << bmax) - 1, bmax),
+                                                decoder.o_units_n[i]).as_signed()))
              for i in range(n)],
             layout.i_load.eq(commit),
             layout.i_bbit.eq(bbit),

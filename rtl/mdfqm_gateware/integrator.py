@@ -8,6 +8,8 @@ from amaranth.lib.wiring import In, Out
 from mdfqm_spec.contract import Contract, signed_bits
 from mdfqm_spec.validate import validate_bool, validate_positive
 
+from .arith import difference
+
 __all__ = ["Integrator"]
 
 
@@ -28,10 +30,12 @@ class Integrator(wiring.Component):
         Reference used by the update starting this cycle.
     i_commit : In(1)
         Commit cycle: ``i_h``/``i_count`` hold this update's state.
-    i_units : In(ArrayLayout(signed(units_width), phases))
-        Feedback of this update in units of ``2**unit_shift``: ``U_i / 2**unit_shift`` (for the
-        core ``unit_shift = width - 2``, so this is ``N h_i - k``), valid with ``i_commit``;
-        ``|U_i| <= (N - 1) FULL``.
+    i_units_n : In(ArrayLayout(signed(units_width), phases))
+        Feedback of this update in units of ``2**unit_shift``, given inverted:
+        ``~(U_i / 2**unit_shift)`` (for the core ``unit_shift = width - 2``, so ``U_i /
+        2**unit_shift`` is ``N h_i - k``), valid with ``i_commit``; ``|U_i| <= (N - 1) FULL``.
+        ``T - U`` is then ``T + ~U + 1``, an addition of the value as given (on the iCE40 an
+        inverter in front of a carry chain is a LUT a bit).
     o_t : Out(ArrayLayout(signed(t_width), phases))
         Optimum signal of the current update (registered, valid from the cycle after a start).
     o_x : Out(ArrayLayout(signed(x_width), phases))
@@ -66,7 +70,7 @@ class Integrator(wiring.Component):
             "i_start": In(1),
             "i_r": In(data.ArrayLayout(signed(c.r_width), phases)),
             "i_commit": In(1),
-            "i_units": In(data.ArrayLayout(signed(self.units_width), phases)),
+            "i_units_n": In(data.ArrayLayout(signed(self.units_width), phases)),
             "o_t": Out(data.ArrayLayout(signed(c.t_width), phases)),
             "o_x": Out(data.ArrayLayout(signed(c.x_width), phases)),
             "o_saturated": Out(1),
@@ -93,7 +97,8 @@ class Integrator(wiring.Component):
         fits_each = []
         for i in range(n):
             high = Signal(signed(c.t_width + 1 - shift), name=f"x_next{i}_high")
-            m.d.comb += high.eq(self.o_t[i][shift:].as_signed() - self.i_units[i])
+            m.d.comb += high.eq(difference(self.o_t[i][shift:].as_signed(), False,
+                                           self.i_units_n[i], True))
             top = high[c.x_width - 1 - shift:]
             fits_each.append((top == 0) | (top == (1 << len(top)) - 1))
             with m.If(self.i_commit):
@@ -123,7 +128,7 @@ class Integrator(wiring.Component):
         m.d.sync += [start_prev.eq(self.i_start), commit_prev.eq(self.i_commit),
                      rst_prev.eq(ResetSignal()), x_prev.eq(self.o_x)]
         m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
-        m.d.sync += [x_exact_prev[i].eq(self.o_t[i] - (self.i_units[i] << self.unit_shift))
+        m.d.sync += [x_exact_prev[i].eq(self.o_t[i] - (~self.i_units_n[i] << self.unit_shift))
                      for i in range(n)]
         after_start = start_prev & ~rst_prev
         after_commit = commit_prev & ~rst_prev
@@ -148,7 +153,7 @@ class Integrator(wiring.Component):
         n = self.phases
         m.d.comb += [
             Assume(sum(self.i_r[i] for i in range(n)) == 0),
-            Assume(sum(self.i_units[i] for i in range(n)) == 0),
+            Assume(sum(~self.i_units_n[i] for i in range(n)) == 0),
         ]
 
         def total(value):

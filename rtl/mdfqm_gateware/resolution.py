@@ -89,8 +89,9 @@ class Quantiser(wiring.Component):
         Mode code of the update (latched; still through the update).
     i_bits : In(BITS_WIDTH)
         b of the update, in ``[1, max_bits]`` for a gamma mode (latched; still).
-    o_units : Out(ArrayLayout(signed(units_width), phases))
-        ``sum_k m_k - N m_i``: the feedback in units of ``FULL / 2**B``; valid with ``o_valid``.
+    o_units_n : Out(ArrayLayout(signed(units_width), phases))
+        ``~(sum_k m_k - N m_i)``: the feedback in units of ``FULL / 2**B``, given inverted (as
+        the integrators take it); valid with ``o_valid``.
     o_lo, o_hi : Out(ArrayLayout(unsigned(max_bits + 1), phases))
         Leg i is on in the slots with scaled index ``lo_i <= j < hi_i``; valid with ``o_valid``.
     o_first : Out(phases)
@@ -132,7 +133,7 @@ class Quantiser(wiring.Component):
             "i_valid": In(1),
             "i_mode": In(MODE_WIDTH),
             "i_bits": In(BITS_WIDTH),
-            "o_units": Out(data.ArrayLayout(signed(self.units_width), phases)),
+            "o_units_n": Out(data.ArrayLayout(signed(self.units_width), phases)),
             "o_lo": Out(data.ArrayLayout(index, phases)),
             "o_hi": Out(data.ArrayLayout(index, phases)),
             "o_first": Out(phases),
@@ -238,29 +239,29 @@ class Quantiser(wiring.Component):
         # quotient bit first: U_i = sum_k m_k - N m_i, doubled and added to at each step from
         # the bits the step registered (no sums over the legs after the division, and no
         # carry chain behind the divider's in one clock). It is final ``ceil(log2 N)``
-        # clocks before o_valid and holds until the next load.
+        # clocks before o_valid and holds until the next load. Held inverted, as the
+        # integrators take it: ``~(2 U + s) = (2 ~U + 1) - s``, the step's negation shared.
         loaded = valid[4]                  # the clock after the load
         stepped = Signal(name="stepped")   # the clock after a division step
         m.d.sync += stepped.eq(~load & (run != 0))
-        # the count of set bits among the legs, and that count minus N, shared by the legs:
-        # a leg selects one (a multiplexer, so that its update is one adder)
+        # the count of set bits among the legs, and that count minus N (each negated for the
+        # steps), shared by the legs: a leg selects one (a multiplexer, so that its update is
+        # one adder)
         step_shape = signed(signed_bits(-n, n))
-        counts = {}
-        for name, bits in (("tops", [q[-1] for q in quotients]),
-                           ("newest", [q[0] for q in quotients])):
-            ones, ones_minus_n = Signal(step_shape, name=f"{name}_set"), \
-                Signal(step_shape, name=f"{name}_set_minus_n")
-            m.d.comb += [ones.eq(sum(bits)), ones_minus_n.eq(ones - n)]
-            counts[name] = [Mux(bit, ones_minus_n, ones) for bit in bits]
+        tops, newest = [q[-1] for q in quotients], [q[0] for q in quotients]
+        tops_set, tops_set_minus_n = Signal(step_shape), Signal(step_shape)
+        newest_neg, newest_n_minus = Signal(step_shape), Signal(step_shape)
+        m.d.comb += [tops_set.eq(sum(tops)), tops_set_minus_n.eq(tops_set - n),
+                     newest_neg.eq(-sum(newest)), newest_n_minus.eq(newest_neg + n)]
         for i in range(n):
-            units = Signal(signed(self.units_width), name=f"units{i}")
-            step = Signal(step_shape, name=f"units_step{i}")
-            m.d.comb += step.eq(counts["newest"][i])
+            units_n = Signal(signed(self.units_width), name=f"units_n{i}")
+            step_neg = Signal(step_shape, name=f"units_step_neg{i}")
+            m.d.comb += step_neg.eq(Mux(newest[i], newest_n_minus, newest_neg))
             with m.If(loaded):
-                m.d.sync += units.eq(counts["tops"][i])
+                m.d.sync += units_n.eq(~Mux(tops[i], tops_set_minus_n, tops_set))
             with m.Elif(stepped):
-                m.d.sync += units.eq((units << 1) + step)
-            m.d.comb += self.o_units[i].eq(units)
+                m.d.sync += units_n.eq(Cat(Const(1, 1), units_n).as_signed() + step_neg)
+            m.d.comb += self.o_units_n[i].eq(units_n)
         # ---- the layout bounds, from the final quotient: lo_i = floor(q_i / 2) (its bit
         # below one slot cleared), hi_i = lo_i + 2**B - q_i
         for i in range(n):

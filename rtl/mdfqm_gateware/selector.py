@@ -223,8 +223,10 @@ class StateDecoder(wiring.Component):
     i_valid : In(1)
     o_h : Out(phases)
         Gate state, bit i = leg i upper switch on.
-    o_units : Out(ArrayLayout(signed(units_width), phases))
-        Feedback of ``o_h`` divided by ``FULL``: ``N h_i - k``, in [-(N-1), N-1].
+    o_units_n : Out(ArrayLayout(signed(units_width), phases))
+        Feedback of ``o_h`` divided by ``FULL``, given inverted: ``~(N h_i - k)``, with
+        ``N h_i - k`` in [-(N-1), N-1] (the integrators subtract it: an addition of the value
+        as given). 0 as given after a reset (read only with ``o_valid``).
     o_valid : Out(1)
 
     Parameters
@@ -253,7 +255,7 @@ class StateDecoder(wiring.Component):
             "i_h_prev": In(phases),
             "i_valid": In(1),
             "o_h": Out(phases),
-            "o_units": Out(data.ArrayLayout(signed(self.units_width), phases)),
+            "o_units_n": Out(data.ArrayLayout(signed(self.units_width), phases)),
             "o_valid": Out(1),
         })
 
@@ -274,7 +276,7 @@ class StateDecoder(wiring.Component):
             m.d.comb += [h.eq(Mux(all_on, (1 << n) - 1, 0)), count.eq(Mux(all_on, n, 0))]
         with m.Else():
             m.d.comb += [h.eq(Cat(*legs)), count.eq(self.i_j)]
-        m.d.sync += [self.o_units[i].eq(Mux(h[i], n, 0) - count) for i in range(n)]
+        m.d.sync += [self.o_units_n[i].eq(~(Mux(h[i], n, 0) - count)) for i in range(n)]
         m.d.sync += [self.o_h.eq(h), self.o_valid.eq(self.i_valid)]
         if self.formal:
             self._properties(m)
@@ -302,7 +304,8 @@ class StateDecoder(wiring.Component):
         m.d.comb += Assert(~started | rst_prev | in_set,
                            "state outside the candidate set of its inputs")
         for i in range(n):
-            m.d.comb += Assert(self.o_units[i] == Mux(self.o_h[i], n, 0) - count,
+            m.d.comb += Assert(~started | rst_prev
+                               | (~self.o_units_n[i] == Mux(self.o_h[i], n, 0) - count),
                                "feedback is not the phase voltage of the state")
         # every one of the 2**N gate states is reached (all-on through the zero policy)
         m.d.comb += [Cover(self.o_valid & ~rst_prev & (self.o_h == state))

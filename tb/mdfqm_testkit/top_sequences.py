@@ -1200,7 +1200,7 @@ class IrqService(TopSequence):
     """Interrupt service as firmware does it: IRQ_ENABLE written (undefined bits too), irq
     raised by each source, IRQ_STATUS read and written 1 to clear, also in the very clock of a
     new event of that source (the event wins); a source that has not raised irq yet is
-    provoked the same way."""
+    provoked the same way, with it alone enabled."""
 
     rules = (robustness("IRQ_ENABLE with undefined bits"), doc(TOP_MD, "Interrupt"),
              *(rdl(f"IRQ_ENABLE.{name}") for name in IRQ_SOURCES),
@@ -1241,8 +1241,14 @@ class IrqService(TopSequence):
     def body(self):
         run, rng = self.run, self.rng
         enable = rng.choice([regs.IRQ_MASK, rng.getrandbits(32), rng.getrandbits(5)])
-        for name in run.coverage.open_bins(self.RAISED):      # the sources not seen raise irq
-            enable |= IRQ_SOURCES[name]
+        not_raised = run.coverage.open_bins(self.RAISED)
+        if self.source in not_raised:
+            # irq rises for the provoked source only while no other enabled source holds it
+            # high: that source alone enabled (the undefined bits still drawn)
+            enable = IRQ_SOURCES[self.source] | (enable & ~regs.IRQ_MASK)
+        else:
+            for name in not_raised:         # the sources not seen raise irq
+                enable |= IRQ_SOURCES[name]
         run.nominal[regs.IRQ_ENABLE] = enable & regs.IRQ_MASK
         yield from run.settle(run.write(regs.IRQ_ENABLE, enable), run.read(regs.IRQ_ENABLE))
         if self.source is not None:
