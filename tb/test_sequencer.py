@@ -3,8 +3,7 @@
 CoreModel for the core's variant, GeneratorModel for the generator's), every output on every
 clock: update starts, sampling ticks, the clocks elapsed since the start, the latched
 period / OSR / policy / mode / b, the clamps (each minimum period and the one below it aimed),
-sync_in at every phase, long and short updates,
-resets mid-run."""
+sync_in at every phase, long and short updates, resets mid-run."""
 
 # (line 1: components built only to be refused are never elaborated, on purpose)
 
