@@ -1,6 +1,6 @@
 """Weighting-filter integrators: T = X + R at the update start, X <- T - v(h) at the commit."""
 
-from amaranth import Cat, Module, Mux, ResetSignal, Signal, signed
+from amaranth import Cat, Module, ResetSignal, Signal, signed
 from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
@@ -39,7 +39,7 @@ class Integrator(wiring.Component):
     o_t : Out(ArrayLayout(signed(t_width), phases))
         Optimum signal of the current update (registered, valid from the cycle after a start).
     o_x : Out(ArrayLayout(signed(x_width), phases))
-        Integrator state (a select between two registers by ``o_saturated``).
+        Integrator state (registered; a saturated commit leaves it as it was).
     o_saturated : Out(1)
         Registered at each commit: that update was held by the bound.
 
@@ -79,13 +79,10 @@ class Integrator(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         n, c = self.phases, self.contract
-        # The commit writes the new value unconditionally (x_written) and keeps the value it
-        # replaces (x_kept); o_saturated then selects which one is the integrator. The bound
-        # check thus ends at one flip-flop instead of steering the enables of every bit, and the
-        # select sits beside the reference's own select in front of the T adder.
-        x_written = Signal(data.ArrayLayout(signed(c.x_width), n))
-        x_kept = Signal(data.ArrayLayout(signed(c.x_width), n))
-        m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+        # The commit writes the new value only if every phase's fits (conditional
+        # integration): the bound check steers the integrators' enables.
+        x = Signal(data.ArrayLayout(signed(c.x_width), n))
+        m.d.comb += self.o_x.eq(x)
         with m.If(self.i_start):
             m.d.sync += [self.o_t[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
 
@@ -94,24 +91,25 @@ class Integrator(wiring.Component):
         # its bits above the word's sign bit are all copies of it: a few LUTs instead of two
         # compare chains.
         shift = self.unit_shift
-        fits_each = []
+        fits_each, x_next = [], []
         for i in range(n):
             high = Signal(signed(c.t_width + 1 - shift), name=f"x_next{i}_high")
             m.d.comb += high.eq(difference(self.o_t[i][shift:].as_signed(), False,
                                            self.i_units_n[i], True))
             top = high[c.x_width - 1 - shift:]
             fits_each.append((top == 0) | (top == (1 << len(top)) - 1))
-            with m.If(self.i_commit):
-                m.d.sync += x_written[i].eq(Cat(self.o_t[i][:shift], high))
+            x_next.append(Cat(self.o_t[i][:shift], high))
         fits = Signal()      # named: the formal tests' "unbounded integrator" variant forces it
         m.d.comb += fits.eq(Cat(*fits_each).all())
         with m.If(self.i_commit):
-            m.d.sync += [x_kept.eq(self.o_x), self.o_saturated.eq(~fits)]
+            m.d.sync += self.o_saturated.eq(~fits)
+            with m.If(fits):
+                m.d.sync += [x[i].eq(x_next[i]) for i in range(n)]
         if self.formal:
-            self._properties(m, x_written, x_kept)
+            self._properties(m)
         return m
 
-    def _properties(self, m, x_written, x_kept):
+    def _properties(self, m):
         """Contract property 5, per phase: the integrators never wrap, for any reference and any
         feedback the ports can carry (no assumption: this also holds inside the core). After a start
         ``T = X + R`` exactly; after a commit ``X = T - U`` exactly, or every phase held and
@@ -143,9 +141,9 @@ class Integrator(wiring.Component):
             ]
         m.d.comb += Cover(after_commit & self.o_saturated)
         if self.formal_sums:
-            self._sum_properties(m, x_written, x_kept)
+            self._sum_properties(m)
 
-    def _sum_properties(self, m, x_written, x_kept):
+    def _sum_properties(self, m):
         """``sum(X) == 0`` for any reference and feedback sequences that each sum to zero (as
         the reference stage and the decoder guarantee). It follows from the per-phase
         exactness by linearity; proving it again costs the solver an adder-tree rearrangement
@@ -161,9 +159,6 @@ class Integrator(wiring.Component):
 
         m.d.comb += [
             Assert(total(self.o_x) == 0, "integrator state does not sum to zero"),
-            # inductive helpers: what the two registers behind o_x and T hold
+            # inductive helper: what the register T holds
             Assert(total(self.o_t) == 0, "T does not sum to zero"),
-            Assert(total(x_kept) == 0, "the kept integrator state does not sum to zero"),
-            Assert(self.o_saturated | (total(x_written) == 0),
-                   "the written integrator state does not sum to zero"),
         ]

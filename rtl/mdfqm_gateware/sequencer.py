@@ -1,6 +1,6 @@
 """Update sequencer: an update every P clocks, a sampling tick every OSR updates."""
 
-from amaranth import Array, Const, Module, Mux, Signal, signed
+from amaranth import Array, Cat, Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -123,41 +123,38 @@ class UpdateSequencer(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        # phase counts up from the start (for sync_in: a compare with a constant); left counts
-        # the clocks to the end of the update down (the end is left == 0): neither needs an
-        # adder in front of a comparator. start and tick are registers computed one clock ahead;
-        # so are the flags they are made of (late: phase >= the latency minus one, where
-        # sync_in restarts; at_end: left == 0; sub_one: the next start samples), so that
-        # tick_next, the reference stage's hand-over enable, is a LUT or two from registers.
+        # phase counts up from 0 in the start clock (the clock that ends an update clears it,
+        # so that it is the elapsed count as it is; for sync_in: a compare with a constant).
+        # start and tick are registers computed one clock ahead; so are the flags they are
+        # made of (late: phase >= the latency minus one, where sync_in restarts; reached:
+        # phase + 1 >= period; sub_one: the next start samples), so that tick_next, the
+        # reference stage's hand-over enable, is a LUT or two from registers.
         phase = Signal(self.period_width)
-        left = Signal(self.period_width)
         # updates since the last sampling start, plus one (the contract's sub + 1): kept
         # incremented so that the wrap test is one compare, with no adder in front of it
         sub_p1 = Signal(self.osr_width, init=1)
         start_q, tick_q, sub_one = Signal(init=1), Signal(init=1), Signal(init=1)
-        late, at_end = Signal(), Signal()
+        late = Signal()
+        reached = self._period_reached(m)
         m.d.comb += [self.start.eq(start_q), self.tick.eq(tick_q),
-                     self.elapsed.eq(Mux(start_q, 0, phase))]
+                     self.elapsed.eq(phase)]
 
         if self.long_latency is None:
             clamped = self.period < self.latency
-            # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
-            ends = ~self.start & ((self.sync_in & late) | at_end)
+            # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update. The
+            # update ends at phase + 1 >= max(period, latency), or at sync_in once late.
+            ends = ~self.start & late & (self.sync_in | reached)
             m.d.sync += [
-                phase.eq(Mux(self.start, 1, phase + 1)),
+                phase.eq(Mux(ends, 0, phase + 1)),
                 late.eq(Mux(self.start, int(self.latency <= 2),
                             at_least(phase, self.latency - 2))),
-                left.eq(Mux(self.start, Mux(clamped, self.latency - 2, self.period - 2),
-                            left - 1)),
-                at_end.eq(Mux(self.start, Mux(clamped, int(self.latency == 2), self.period == 2),
-                              left == 1)),
                 start_q.eq(ends),
                 tick_q.eq(self.tick_next),
             ]
         else:
-            clamped, ends = self._generator_sequence(m, phase, late)
+            clamped, ends = self._generator_sequence(m, phase, late, reached)
             m.d.sync += [
-                phase.eq(Mux(self.start, 1, phase + 1)),
+                phase.eq(Mux(ends, 0, phase + 1)),
                 start_q.eq(ends),
                 tick_q.eq(self.tick_next),
             ]
@@ -172,7 +169,25 @@ class UpdateSequencer(wiring.Component):
             ]
         return m
 
-    def _generator_sequence(self, m, phase, late):
+    def _period_reached(self, m):
+        """A register high from the clock with ``phase + 1 >= period`` until the next start
+        (what it holds in a start clock is not read). An up-count loaded with ``~period`` at
+        the start, so that its load is no adder (it merges into the count's own LUTs), and
+        tested against a constant as logic on its bits."""
+        # at phase j >= 1 the count is j - period - 2 (~period = -period - 1 at phase 1), and
+        # phase + 1 >= period <=> count >= -3: next clock's flag is count >= -4, i.e. the bits
+        # from 2 up all ones or the sign clear. It never wraps: an update ends within
+        # max(period, minimum) clocks of its start, far below 2**period_width past -4.
+        count = Signal(signed(self.period_width + 1))
+        reached = Signal()
+        m.d.sync += [
+            count.eq(Mux(self.start, Cat(~self.period, Const(1, 1)).as_signed(), count + 1)),
+            reached.eq(Mux(self.start, ~at_least(self.period, 3),
+                           ~count[-1] | count[2:].all())),
+        ]
+        return reached
+
+    def _generator_sequence(self, m, phase, late, reached):
         """Mode/bits clamp, short/long decision, minimum period and end of the update (the
         generator): returns (period clamped at this start, the update ends this cycle).
 
@@ -197,19 +212,15 @@ class UpdateSequencer(wiring.Component):
         below = Array(~at_least(self.period, v) for v in table)[b_now]
         clamped = Mux(long_now, below, ~at_least(self.period, short))
         minimum = Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)
-        # from phase 1 on: phase + 1 >= period <=> count < 0, phase + 1 >= minimum <=> floor < 0.
-        # count is negative for at most the minimum's clocks before the next start reloads it
-        # (no wrap in width + 1 bits); floor, as wide as the largest minimum, holds once
-        # negative
-        count = Signal(signed(width + 1))
+        # from phase 1 on: phase + 1 >= period <=> reached, phase + 1 >= minimum <=> floor < 0;
+        # floor, as wide as the largest minimum, holds once negative
         floor = Signal(signed(signed_bits(-1, max(table) - 3)))
         # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
-        ends = ~self.start & ((self.sync_in & late) | (count[-1] & floor[-1]))
+        ends = ~self.start & ((self.sync_in & late) | (reached & floor[-1]))
         m.d.sync += [
             late.eq(Mux(self.start, Mux(long_now, int(long_lat <= 2), int(short <= 2)),
                         Mux(self.long, at_least(phase, long_lat - 2),
                             at_least(phase, short - 2)))),
-            count.eq(Mux(self.start, self.period - 3, count - 1)),
             floor.eq(Mux(self.start,
                          Mux(long_now, Array(Const(v - 3, floor.shape()) for v in table)[b_now],
                              short - 3),

@@ -96,8 +96,8 @@ ROWS = {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"total_next\.eq\(total \+ sum", ("const0",),
                    ("Y[1]",))},
     "reference beyond the linear range": {
-        "core": ("rtl/mdfqm_gateware/integrator.py", r"o_x\.eq\(Mux\(self\.o_saturated", ANY,
-                 None)},
+        "core": ("rtl/mdfqm_gateware/integrator.py", r"fits\.eq\(Cat\(\*fits_each\)\.all\(\)\)",
+                 ANY, None)},
     "common-mode offset": {
         "core": ("rtl/mdfqm_gateware/reference.py", r"total\.eq\(total \+ phase_code\)", ANY,
                  None)},
@@ -124,7 +124,7 @@ ROWS = {
                    r"legal = self\.mode < len|bits_now = Mux\(self\.bits < 1", ANY, None)},
     "`sync_in` at any time": {
         "core": ("rtl/mdfqm_gateware/sequencer.py",
-                 r"ends = ~self\.start & \(\(self\.sync_in & late\) \| at_end\)", ANY, None)},
+                 r"ends = ~self\.start & late & \(self\.sync_in \| reached\)", ANY, None)},
     "reset in the middle of an update": {
         "core": ("rtl/mdfqm_gateware/sequencer.py", r"start_q, tick_q, sub_one = Signal\(init=1\)",
                  ANY, ("S",))},          # the reset multiplexer's select
