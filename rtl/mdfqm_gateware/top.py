@@ -5,6 +5,9 @@ front + switching counters + ADC trigger + reference watchdog. Every bit on ever
 imported from :mod:`mdfqm_spec.regmap` and documented in ``docs/top.md``.
 """
 
+import functools
+import operator
+
 from amaranth import C, Cat, Module, Mux, ResetSignal, Signal, signed
 from amaranth.hdl import Assert, Cover
 from amaranth.lib import data, stream, wiring
@@ -315,53 +318,26 @@ class MdfqmTop(wiring.Component):
         info = info_word(n, self.width, self.rule, self.upper_active_low,
                          self.lower_active_low, self.latency, self.max_bits, asc=self.asc,
                          watchdog=self.watchdog)
-        with m.Switch(port.r_adr):
-            with m.Case(regmap.ID):
-                m.d.comb += rd.eq(regmap.ID_VALUE)
-            with m.Case(regmap.INFO):
-                m.d.comb += rd.eq(info)
-            with m.Case(regmap.DEAD_MIN):
-                m.d.comb += rd.eq(self.dead_min)
-            with m.Case(regmap.CTRL):
-                m.d.comb += rd.eq(ctrl)
-            with m.Case(regmap.STATUS):
-                m.d.comb += rd.eq(status)
-            with m.Case(regmap.PERIOD):
-                m.d.comb += rd.eq(period)
-            with m.Case(regmap.OSR):
-                m.d.comb += rd.eq(osr)
-            with m.Case(regmap.DEAD):
-                m.d.comb += rd.eq(dead)
-            with m.Case(regmap.MIN_PULSE):
-                m.d.comb += rd.eq(min_pulse)
-            with m.Case(regmap.ADC_OFFSET):
-                m.d.comb += rd.eq(adc_offset)
-            with m.Case(regmap.EVENTS_TOTAL):
-                m.d.comb += rd.eq(total)
-            with m.Case(regmap.GATES):
-                m.d.comb += rd.eq(driver.up | (driver.lo << 16))
-            with m.Case(regmap.IRQ_ENABLE):
-                m.d.comb += rd.eq(irq_enable)
-            with m.Case(regmap.IRQ_STATUS):
-                m.d.comb += rd.eq(irq_status)
-            with m.Case(regmap.WATCHDOG):
-                m.d.comb += rd.eq(wd_timeout)
-            with m.Case(regmap.WATCHDOG_TRIPS):
-                m.d.comb += rd.eq(wd_trips)
-            with m.Case(regmap.FAULT_REACTION):
-                # each field as the driver acts on it (3 reads 0): one decode for both
-                m.d.comb += rd.eq(Cat(driver.reaction_fault_acted,
-                                      driver.reaction_watchdog_acted))
-            with m.Case(regmap.MODULATION):
-                m.d.comb += rd.eq((mode_in_force << regmap.MODULATION_MODE_SHIFT)
-                                  | (bits_in_force << regmap.MODULATION_BITS_SHIFT))
-            for i in range(n):
-                with m.Case(regmap.REF_BASE + i):
-                    m.d.comb += rd.eq(ref_regs[i])   # signed: sign-extended
-                with m.Case(regmap.EVENTS_BASE + i):
-                    m.d.comb += rd.eq(events[i])
-            with m.Default():
-                m.d.comb += rd.eq(0)
+        # the read: an OR of the registers, each ANDed with its address decoded (every word
+        # not in the map reads 0)
+        reads = {
+            regmap.ID: C(regmap.ID_VALUE, 32), regmap.INFO: C(info, 32),
+            regmap.DEAD_MIN: C(self.dead_min, 32), regmap.CTRL: ctrl, regmap.STATUS: status,
+            regmap.PERIOD: period, regmap.OSR: osr, regmap.DEAD: dead,
+            regmap.MIN_PULSE: min_pulse, regmap.ADC_OFFSET: adc_offset,
+            regmap.EVENTS_TOTAL: total, regmap.GATES: driver.up | (driver.lo << 16),
+            regmap.IRQ_ENABLE: irq_enable, regmap.IRQ_STATUS: irq_status,
+            regmap.WATCHDOG: wd_timeout, regmap.WATCHDOG_TRIPS: wd_trips,
+            # each field as the driver acts on it (3 reads 0): one decode for both
+            regmap.FAULT_REACTION: Cat(driver.reaction_fault_acted,
+                                       driver.reaction_watchdog_acted),
+            regmap.MODULATION: (mode_in_force << regmap.MODULATION_MODE_SHIFT)
+            | (bits_in_force << regmap.MODULATION_BITS_SHIFT),
+            **{regmap.REF_BASE + i: ref_regs[i] for i in range(n)},     # signed: sign-extended
+            **{regmap.EVENTS_BASE + i: events[i] for i in range(n)},
+        }
+        m.d.comb += rd.eq(functools.reduce(operator.or_, (
+            Mux(port.r_adr == address, value, 0) for address, value in reads.items())))
         m.d.comb += port.r_data.eq(rd)
 
         # ---------------------------------------------------------------- reference input
@@ -482,12 +458,11 @@ class MdfqmTop(wiring.Component):
             m.d.sync += tripped.eq(1)
         with m.Elif(clear):
             m.d.sync += tripped.eq(0)
-        # the count with a trip added (saturating) formed from registers, and the trip, late
-        # (an update start against the quiet count), picks it last
-        kept, counted = Signal(16), Signal(16)
-        m.d.comb += [kept.eq(Mux(count_clear, 0, trips)),
-                     counted.eq(Mux(kept == 0xFFFF, kept, kept + 1))]
-        m.d.sync += trips.eq(Mux(trip, counted, kept))
+        # trips counted, saturating; CMD.COUNT_CLEAR with a trip in its clock leaves that one
+        with m.If(count_clear):
+            m.d.sync += trips.eq(trip)
+        with m.Elif(trip & ~trips.all()):
+            m.d.sync += trips.eq(trips + 1)
         return tripped, trip, ~quiet_n
 
     def _watchdog_properties(self, m, start, arrival, timeout, state, clears, driver):

@@ -177,13 +177,13 @@ SAMPLE: tuple[Sampled, ...] = (
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@7dcd647e top $and#0 B[0] inv",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
-    # 'upper': Out(1)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
-            "pin polarity"),
     # 'lower': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg0 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg1 $dff#0 Q[0] inv",
+            "pin polarity"),
+    # 'upper': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
             "pin polarity"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
@@ -191,19 +191,19 @@ SAMPLE: tuple[Sampled, ...] = (
             "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[28] inv",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[6] cnot1/1",
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[9] cnot0/12",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[29] inv",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 B[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
@@ -211,11 +211,11 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[1] inv",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[0] const1",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[0] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 A[2] inv",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
@@ -223,27 +223,27 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & ~(timeout + quiet_...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@bec9afda top $and#3 A[0] const0",
+            "rtl/mdfqm_gateware/top.py@bec9afda top $and#2 Y[0] const0",
             "row: the controller stops sending references"),
-    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
-    Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 Y[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
             "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
+    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 B[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[3] const0",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[3] inv",
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 A[4] const0",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[2] const1",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[35] const1",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#0 A[35] inv",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample
