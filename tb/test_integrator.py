@@ -14,8 +14,9 @@ from mdfqm_model.update import integrate
 from mdfqm_spec.contract import Contract
 from mdfqm_testkit.harness import check_cycles, pack, params, run_block, seeded_rng, start, unpack
 
-# (phases, width, unit_shift): the core's unit, and the generator's at max_bits 8
-CASES = [(3, 16, 14), (5, 16, 6)]
+# (phases, width, unit_shift, kept_copy): the core's unit and register, the generator's at
+# max_bits 8 (with the kept copy), and the core's unit with the kept copy
+CASES = [(3, 16, 14, False), (5, 16, 6, True), (3, 16, 14, True)]
 
 
 @cocotb.test()
@@ -58,13 +59,15 @@ async def integrator_starts_commits_and_bound(dut):
         "o_t": lambda w: unpack(w, c.t_width, n), "o_x": lambda w: unpack(w, c.x_width, n)})
 
 
-@pytest.mark.parametrize(("phases", "width", "unit_shift"), CASES)
-def test_integrator(phases, width, unit_shift):
+@pytest.mark.parametrize(("phases", "width", "unit_shift", "kept_copy"), CASES)
+def test_integrator(phases, width, unit_shift, kept_copy):
     block = Integrator(phases, width, unit_shift=unit_shift)
     units_max = (phases - 1) << (width - 2 - unit_shift)
-    run_block(lambda: Integrator(phases, width, unit_shift=unit_shift), "integrator",
-              "test_integrator", {"phases": phases, "width": width, "unit_shift": unit_shift,
-                                  "units_max": units_max, "units_width": block.units_width})
+    run_block(lambda: Integrator(phases, width, unit_shift=unit_shift, kept_copy=kept_copy),
+              "integrator", "test_integrator",
+              {"phases": phases, "width": width, "unit_shift": unit_shift,
+               "kept_copy": kept_copy, "units_max": units_max,
+               "units_width": block.units_width})
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [

@@ -135,8 +135,11 @@ def build_loop(m, component, sequencer, unit_shift: int, h_prev) -> SimpleNamesp
     n, width, formal = component.phases, component.width, component.formal
     c = component.contract
     m.submodules.reference = reference = ReferenceStage(n, width)
+    # the generator's feedback (finer than FULL) comes wide and through its mode select: its
+    # integrators keep a copy, so that their bound check ends at one flop (Integrator)
     m.submodules.integrator = integrator = Integrator(n, width, unit_shift=unit_shift,
-                                                      formal=formal, formal_sums=False)
+                                                      formal=formal, formal_sums=False,
+                                                      kept_copy=unit_shift != width - 2)
     # sort1 gives the candidates the values they subtract inverted (rho_held_inverted)
     candidates = Candidates(n, width, component.rule)
     m.submodules.sort1 = sort1 = SortNetwork(n, c.t_width, formal=formal,

@@ -1,6 +1,6 @@
 """Weighting-filter integrators: T = X + R at the update start, X <- T - v(h) at the commit."""
 
-from amaranth import Cat, Module, ResetSignal, Signal, signed
+from amaranth import Cat, Module, Mux, ResetSignal, Signal, signed
 from amaranth.hdl import Assert, Assume, Cover
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
@@ -51,12 +51,20 @@ class Integrator(wiring.Component):
         The feedback comes in units of ``2**unit_shift`` (None: ``width - 2``, i.e. ``FULL``,
         the core's). The generator uses ``width - 2 - max_bits``: the commit adds only the bits
         from ``unit_shift`` up.
+    kept_copy : bool
+        False: one register a phase, written at a commit only if every phase fits (the bound
+        check steers its enables). True: the commit writes the new value unconditionally and
+        keeps a copy of the one it replaces, and ``o_saturated`` selects which one is the
+        integrator, so the bound check ends at one flip-flop (a register and a multiplexer
+        a bit more: for the generator, whose feedback comes wide and through its mode select,
+        the path that sets its Fmax). The same values at the ports either way.
     """
 
     def __init__(self, phases: int, width: int, unit_shift: int | None = None,
-                 formal: bool = False, formal_sums: bool = True):
+                 formal: bool = False, formal_sums: bool = True, kept_copy: bool = False):
         self.contract = Contract(phases, width)
         self.formal = validate_bool(formal, "formal")
+        self.kept_copy = validate_bool(kept_copy, "kept_copy")
         self.formal_sums = validate_bool(formal_sums, "formal_sums")
         self.phases = phases
         c = self.contract
@@ -79,10 +87,6 @@ class Integrator(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         n, c = self.phases, self.contract
-        # The commit writes the new value only if every phase's fits (conditional
-        # integration): the bound check steers the integrators' enables.
-        x = Signal(data.ArrayLayout(signed(c.x_width), n))
-        m.d.comb += self.o_x.eq(x)
         with m.If(self.i_start):
             m.d.sync += [self.o_t[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
 
@@ -101,15 +105,28 @@ class Integrator(wiring.Component):
             x_next.append(Cat(self.o_t[i][:shift], high))
         fits = Signal()      # named: the formal tests' "unbounded integrator" variant forces it
         m.d.comb += fits.eq(Cat(*fits_each).all())
+        # conditional integration (kept_copy: see the parameter)
+        if self.kept_copy:
+            x_written = Signal(data.ArrayLayout(signed(c.x_width), n))
+            x_kept = Signal(data.ArrayLayout(signed(c.x_width), n))
+            m.d.comb += self.o_x.eq(Mux(self.o_saturated, x_kept, x_written))
+            with m.If(self.i_commit):
+                m.d.sync += [x_written[i].eq(x_next[i]) for i in range(n)]
+                m.d.sync += x_kept.eq(self.o_x)
+            registers = (x_written, x_kept)
+        else:
+            x = Signal(data.ArrayLayout(signed(c.x_width), n))
+            m.d.comb += self.o_x.eq(x)
+            with m.If(self.i_commit & fits):
+                m.d.sync += [x[i].eq(x_next[i]) for i in range(n)]
+            registers = None
         with m.If(self.i_commit):
             m.d.sync += self.o_saturated.eq(~fits)
-            with m.If(fits):
-                m.d.sync += [x[i].eq(x_next[i]) for i in range(n)]
         if self.formal:
-            self._properties(m)
+            self._properties(m, registers)
         return m
 
-    def _properties(self, m):
+    def _properties(self, m, registers):
         """Contract property 5, per phase: the integrators never wrap, for any reference and any
         feedback the ports can carry (no assumption: this also holds inside the core). After a start
         ``T = X + R`` exactly; after a commit ``X = T - U`` exactly, or every phase held and
@@ -141,9 +158,9 @@ class Integrator(wiring.Component):
             ]
         m.d.comb += Cover(after_commit & self.o_saturated)
         if self.formal_sums:
-            self._sum_properties(m)
+            self._sum_properties(m, registers)
 
-    def _sum_properties(self, m):
+    def _sum_properties(self, m, registers):
         """``sum(X) == 0`` for any reference and feedback sequences that each sum to zero (as
         the reference stage and the decoder guarantee). It follows from the per-phase
         exactness by linearity; proving it again costs the solver an adder-tree rearrangement
@@ -159,6 +176,13 @@ class Integrator(wiring.Component):
 
         m.d.comb += [
             Assert(total(self.o_x) == 0, "integrator state does not sum to zero"),
-            # inductive helper: what the register T holds
+            # inductive helpers: what the registers behind T and o_x hold
             Assert(total(self.o_t) == 0, "T does not sum to zero"),
         ]
+        if registers is not None:
+            x_written, x_kept = registers
+            m.d.comb += [
+                Assert(total(x_kept) == 0, "the kept integrator state does not sum to zero"),
+                Assert(self.o_saturated | (total(x_written) == 0),
+                       "the written integrator state does not sum to zero"),
+            ]

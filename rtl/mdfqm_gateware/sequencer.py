@@ -208,9 +208,8 @@ class UpdateSequencer(wiring.Component):
         # minimum period of a long update for each code of b_now (padded: a complete case)
         table = [min_period(True, min(b, self.max_bits), short, long_lat)
                  for b in range(1 << BITS_WIDTH)]
-        # period < constant as logic on the bits (at_least): no carry chain per entry
-        below = Array(~at_least(self.period, v) for v in table)[b_now]
-        clamped = Mux(long_now, below, ~at_least(self.period, short))
+        below = Array(self.period < v for v in table)[b_now]
+        clamped = Mux(long_now, below, self.period < short)
         minimum = Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)
         # from phase 1 on: phase + 1 >= period <=> reached, phase + 1 >= minimum <=> floor < 0;
         # floor, as wide as the largest minimum, holds once negative

@@ -83,7 +83,7 @@ SAMPLE: tuple[Sampled, ...] = (
             "datapath"),
     # m.d.comb += fits.eq(Cat(*fits_each).all())
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@2df87e8d integrator $reduce_and#0 A[2] inv",
+            "rtl/mdfqm_gateware/integrator.py@2df87e8d integrator $reduce_and#0 Y[0] const0",
             "row: reference beyond the linear range"),
     # m.d.sync += total.eq(total + phase_code)
     Sampled("core",
@@ -91,47 +91,47 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: common-mode offset"),
     # m.d.sync += pending[n - 1].eq(~(scaled_n + total))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $not#0 Y[10] inv",
+            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $not#0 Y[11] const1",
             "row: extreme codes"),
     # next_values[a].eq(Mux(a_first, *[as_held(values[i], inverted[i], next_inverted[a]) fo...
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 B[4] cnot1/7",
+            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 B[4] inv",
             "row: equal references (ties)"),
     # clamped = self.period < self.latency
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[5] const0",
+            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[8] inv",
             "row: update period below the loop latency"),
     # osr_now = Mux(self.osr == 0, 1, self.osr)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[6] inv",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[5] const0",
             "row: OSR 0"),
     # 'policy': Out(1)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 Y[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 S[0] const0",
             "row: runtime changes of period / OSR / zero policy / mode"),
     # ends = ~self.start & late & (self.sync_in | reached)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@367c7909 sequencer $and#1 B[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@367c7909 sequencer $and#1 A[0] const0",
             "row: `sync_in` at any time"),
     # start_q, tick_q, sub_one = (Signal(init=1), Signal(init=1), Signal(init=1))
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#0 S[0] inv",
+            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#0 S[0] const1",
             "row: reset in the middle of an update"),
     # m.d.comb += self.ref.ready.eq(~(busy | full))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 A[0] inv",
+            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 Y[0] const0",
             "row: a reference beat while one is pending"),
     # hi.eq(lo - quotients[i] + (1 << bmax))
     Sampled("generator",
             "rtl/mdfqm_gateware/resolution.py@00804d4c quantiser $add#1 A[5] inv",
             "datapath"),
-    # m.d.sync += v.eq(~(t2 + offset_n))
+    # ofs['o2'].eq(self.i_min * 2 + k_tab[2])
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@f2e937b5 quantiser $add#1 Y[14] inv",
+            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $mul#0 A[7] inv",
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 S[0] const1",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[3] cnot0/1",
             "row: illegal generator `mode`"),
     # 'upper': Out(phases)
     Sampled("driver",
@@ -177,13 +177,13 @@ SAMPLE: tuple[Sampled, ...] = (
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@7dcd647e top $and#0 B[0] inv",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
-    # 'lower': Out(1)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg1 $dff#0 Q[0] inv",
-            "pin polarity"),
     # 'upper': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
+            "pin polarity"),
+    # 'lower': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg0 $dff#0 Q[0] inv",
             "pin polarity"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
@@ -191,19 +191,19 @@ SAMPLE: tuple[Sampled, ...] = (
             "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
             "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[6] cnot1/1",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[15] inv",
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[29] inv",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[9] cnot1/3",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 B[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
@@ -211,39 +211,39 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[0] const1",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[1] inv",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 A[2] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[1] cnot1/0",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[7] inv",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[8] cnot0/11",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & ~(timeout + quiet_...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@bec9afda top $and#2 Y[0] const0",
+            "rtl/mdfqm_gateware/top.py@bec9afda top $and#3 A[0] const0",
             "row: the controller stops sending references"),
+    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 Y[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
             "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
-    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
-    Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 B[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[3] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[3] const0",
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[2] const1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 A[4] const0",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#0 A[35] inv",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[1] inv",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample
