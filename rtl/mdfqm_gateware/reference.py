@@ -1,10 +1,7 @@
 """Reference stage: exact common-mode removal, one phase per clock, and the sampling switch
 (zero-order hold)."""
 
-import functools
-import operator
-
-from amaranth import Module, Mux, Signal, signed
+from amaranth import Module, Signal, signed
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -54,17 +51,19 @@ class ReferenceStage(wiring.Component):
         m = Module()
         n, c = self.phases, self.contract
         r_shape = signed(c.r_width)
-        raw = Signal(data.ArrayLayout(signed(self.width), n))
+        raw = Signal(data.ArrayLayout(signed(self.width), n), reset_less=True)
         total = Signal(r_shape)
         pending = Signal(data.ArrayLayout(r_shape, n))
         # busy: a beat is being worked on; forming: its second half (R_i), else its sum;
-        # which: the phase read in this clock, one-hot (a ring: no counter, no decoder). The
-        # sum reads the phases from 1 on and phase 0 last, so that the clock ending it also
-        # loads N c_0 into scaled; each clock of the second half then forms R_i from scaled
-        # and loads N c_(i+1).
+        # which: the phase read in this clock, one-hot (a ring: no counter, no decoder).
+        # ``raw`` turns with ``which``, so that the phase read is always ``raw[0]``: no
+        # multiplexer in front of the two adders that read it (the Fmax path). The sum reads
+        # the phases from 1 on and phase 0 last, so that the clock ending it also loads N c_0
+        # into scaled; each clock of the second half then forms R_i from scaled and loads
+        # N c_(i+1).
         busy, forming, full = Signal(), Signal(), Signal()
         which = Signal(n)
-        phase_code = Signal(signed(self.width))
+        phase_code = raw[0]
         # N c held inverted: R_i = ~(~(N c_i) + sum) is then an addition of two registers as
         # they are (a subtraction puts an inverter in front of every bit of its carry chain),
         # and the inversions are free in the sums' own logic. Loaded in every clock and read
@@ -73,11 +72,14 @@ class ReferenceStage(wiring.Component):
 
         accept = self.ref.valid & self.ref.ready
         m.d.comb += self.ref.ready.eq(~(busy | full))
+        # while not busy, raw follows the port (turned by one: phase 1 first); it is read only
+        # while busy, and busy begins with an acceptance (so no reset either)
+        with m.If(busy):
+            m.d.sync += [raw[i].eq(raw[(i + 1) % n]) for i in range(n)]
+        with m.Else():
+            m.d.sync += [raw[i].eq(self.ref.payload[(i + 1) % n]) for i in range(n)]
         with m.If(accept):
-            m.d.sync += [raw.eq(self.ref.payload), busy.eq(1), forming.eq(0), which.eq(0b10),
-                         total.eq(0)]
-        m.d.comb += phase_code.eq(functools.reduce(
-            operator.or_, (Mux(which[i], raw[i], 0) for i in range(n))))
+            m.d.sync += [busy.eq(1), forming.eq(0), which.eq(0b10), total.eq(0)]
         # N c as shifted copies of c, one per set bit of N: no multiplier
         m.d.sync += scaled_n.eq(~sum(phase_code << k for k in range(n.bit_length())
                                      if (n >> k) & 1))

@@ -75,35 +75,35 @@ def reading(key: str) -> Reading | None:
 SAMPLE: tuple[Sampled, ...] = (
     # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#0 A[5] inv",
+            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#0 Y[18] const1",
             "datapath"),
     # m.d.sync += [t_exact_prev[i].eq(self.o_x[i] + self.i_r[i]) for i in range(n)]
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#0 Y[18] const1",
+            "rtl/mdfqm_gateware/integrator.py@5e65dc4d integrator $add#2 B[6] const0",
             "datapath"),
     # m.d.comb += fits.eq(Cat(*fits_each).all())
     Sampled("core",
-            "rtl/mdfqm_gateware/integrator.py@2df87e8d integrator $reduce_and#0 Y[0] const0",
+            "rtl/mdfqm_gateware/integrator.py@2df87e8d integrator $reduce_and#0 A[2] inv",
             "row: reference beyond the linear range"),
     # m.d.sync += total.eq(total + phase_code)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 A[5] inv",
+            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 A[11] const1",
             "row: common-mode offset"),
     # m.d.sync += pending[n - 1].eq(~(scaled_n + total))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $not#0 Y[11] const1",
+            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $add#0 A[7] const0",
             "row: extreme codes"),
     # next_values[a].eq(Mux(a_first, *[as_held(values[i], inverted[i], next_inverted[a]) fo...
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 B[4] inv",
+            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 Y[18] inv",
             "row: equal references (ties)"),
     # clamped = self.period < self.latency
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[8] inv",
+            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[8] cnot0/0",
             "row: update period below the loop latency"),
     # osr_now = Mux(self.osr == 0, 1, self.osr)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[5] const0",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[5] inv",
             "row: OSR 0"),
     # 'policy': Out(1)
     Sampled("core",
@@ -111,87 +111,87 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: runtime changes of period / OSR / zero policy / mode"),
     # ends = ~self.start & late & (self.sync_in | reached)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@367c7909 sequencer $and#1 A[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@367c7909 sequencer $and#1 A[0] inv",
             "row: `sync_in` at any time"),
     # start_q, tick_q, sub_one = (Signal(init=1), Signal(init=1), Signal(init=1))
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#0 S[0] const1",
+            "rtl/mdfqm_gateware/sequencer.py@057fa2e3 sequencer $mux#2 S[0] const1",
             "row: reset in the middle of an update"),
     # m.d.comb += self.ref.ready.eq(~(busy | full))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $not#0 Y[0] const0",
+            "rtl/mdfqm_gateware/reference.py@1ff14b1e reference $or#0 B[0] const1",
             "row: a reference beat while one is pending"),
-    # hi.eq(lo - quotients[i] + (1 << bmax))
-    Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@00804d4c quantiser $add#1 A[5] inv",
-            "datapath"),
     # ofs['o2'].eq(self.i_min * 2 + k_tab[2])
     Sampled("generator",
-            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $mul#0 A[7] inv",
+            "rtl/mdfqm_gateware/resolution.py@af2e4d8c quantiser $mul#0 A[16] const0",
+            "datapath"),
+    # rem.eq(Mux(fits, trial, rem << 1))
+    Sampled("generator",
+            "rtl/mdfqm_gateware/resolution.py@f6a5e4a9 quantiser $mux#1 B[1] const0",
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#1 Y[3] cnot0/1",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#0 Y[2] cnot1/1",
             "row: illegal generator `mode`"),
-    # 'upper': Out(phases)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
-            "pin polarity"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[1] inv",
             "pin polarity"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const1",
-            "two events in one clock"),
-    # 'fault': Out(1)
-    Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#1 S[0] const0",
-            "two events in one clock"),
     # 'upper': Out(phases)
     Sampled("driver",
             "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[2] inv",
+            "pin polarity"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#0 S[0] const1",
+            "two events in one clock"),
+    # 'fault': Out(1)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@95f6e967 top $mux#2 S[0] const0",
+            "two events in one clock"),
+    # 'upper': Out(phases)
+    Sampled("driver",
+            "rtl/mdfqm_gateware/driver.py@d54a41ba~ top $not#0 Y[0] inv",
             "row: any pair of pin polarities"),
     # dt_expr = Mux(dead_seen < self.dead_min, self.dead_min, dead_seen)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 A[11] const1",
+            "rtl/mdfqm_gateware/driver.py@8122c414 leg0 $mux#0 B[8] inv",
             "row: dead time below the elaboration floor"),
     # return ((c >= self.dead) & (c >= self.dead_min) & run_ok, c < self.min_pulse)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg0 $gt#1 A[7] inv",
+            "rtl/mdfqm_gateware/driver.py@c0cfabdb leg1 $gt#1 A[10] cnot0/0",
             "row: a commanded pulse shorter than the minimum pulse"),
     # m.d.comb += self.short_edge_now.eq(Mux(drive & self.active, (cmd ^ cmd_lat) & ~follow...
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $and#1 B[0] cnot1/1",
+            "rtl/mdfqm_gateware/driver.py@2cde9ffd top $mux#0 B[1] inv",
             "row: a slot or an update shorter than the dead time plus the minimum pulse"),
     # m.d.comb += fault_active.eq(self.fault_input | self.fault)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 B[0] const0",
+            "rtl/mdfqm_gateware/driver.py@8e432b7f top $or#0 A[0] const1",
             "row: fault input chatter, fault during a dead time"),
     # drive_if_clear.eq(Mux(self.update, self.enable, self.active) & ~self.stop)
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@2c51e235 top $mux#0 B[0] inv",
+            "rtl/mdfqm_gateware/driver.py@2c51e235 top $and#0 Y[0] inv",
             "row: enable toggled in the middle of an update"),
-    # kill_common = self.all_off | rise_w & (w == 0)
+    # now_if_fault.eq(Mux(kill_if_fault, 0, Mux(held, self.reaction, f)))
     Sampled("driver",
-            "rtl/mdfqm_gateware/driver.py@7dcd647e top $and#0 B[0] inv",
+            "rtl/mdfqm_gateware/driver.py@68c499a9 top $mux#1 Y[1] cnot0/0",
             "row: a fault or a watchdog trip with an active short circuit chosen"),
+    # 'lower': Out(1)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg1 $dff#0 Q[0] inv",
+            "pin polarity"),
     # 'upper': Out(1)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
             "pin polarity"),
-    # 'lower': Out(1)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@08542599 driver.leg0 $dff#0 Q[0] inv",
-            "pin polarity"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
             "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
             "bus handshake (cyc or stb alone)"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
@@ -199,11 +199,11 @@ SAMPLE: tuple[Sampled, ...] = (
             "two events in one clock"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[9] cnot1/3",
+            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[13] const1",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
@@ -211,19 +211,19 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $gt#0 A[1] inv",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#0 A[1] const0",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[1] cnot1/0",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 A[4] cnot1/2",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[8] cnot0/11",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $lt#0 A[15] const0",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & ~(timeout + quiet_...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@bec9afda top $and#3 A[0] const0",
+            "rtl/mdfqm_gateware/top.py@bec9afda top $and#2 Y[0] const0",
             "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
@@ -243,7 +243,7 @@ SAMPLE: tuple[Sampled, ...] = (
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[1] inv",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[19] const1",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample
