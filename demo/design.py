@@ -258,27 +258,28 @@ class DemoDesign(wiring.Component):
 
         freq, amp = regs.NCO_FREQ, regs.NCO_AMP
         freq_top, amp_top = (1 << c.acc_bits) - 1, (1 << (c.width - 1)) - 1
-        # each step one carry chain, its carry out the saturation test: f + f/8 + 1 (about
-        # +12.5 %) as (2f + 1 + 2 (f/8) + 1) / 2; f - f/8 - 1 as f + ~(f/8), which carries out
-        # exactly when f >= 1 (else the step stops at 0); the amplitude's likewise (a - step
-        # as a + 2**(width-1) - step, whose top bit says a >= step)
-        eighth = Signal(c.acc_bits)
-        up = Signal(c.acc_bits + 2)
-        down = Signal(c.acc_bits + 1)
+        # each step one carry chain, its carry out the saturation test. The frequency's two
+        # steps share one: f + f/8 + 1 (about +12.5 %) and f - f/8 - 1 = f + ~(f/8) are both
+        # f + (f/8 xor ~up) + up, the carry in as (2f + up + 2 operand + up) / 2; up
+        # overflows exactly when it carries out and down (f < f/8 + 1) exactly when it does
+        # not, so a carry out equal to up saturates to all ones (up) or 0 (down). The
+        # amplitude's likewise (a - step as a + 2**(width-1) - step, whose top bit says
+        # a >= step).
+        freq_up = press("freq_up")
+        operand = Signal(c.acc_bits)
+        stepped = Signal(c.acc_bits + 2)
         amp_up = Signal(c.width)
         amp_down = Signal(c.width)
         m.d.comb += [
-            eighth.eq(freq >> 3),
-            up.eq(Cat(1, freq) + Cat(1, eighth)),
-            down.eq(freq + ~eighth),
+            operand.eq((freq >> 3) ^ Mux(freq_up, 0, freq_top)),
+            stepped.eq(Cat(freq_up, freq) + Cat(freq_up, operand)),
             amp_up.eq(amp + c.amp_step),
             amp_down.eq(amp + ((1 << (c.width - 1)) - c.amp_step)),
         ]
         m.d.comb += [
-            regs.NCO_FREQ_set.eq(press("freq_up") | press("freq_down")),
-            regs.NCO_FREQ_value.eq(Mux(press("freq_up"),
-                                       Mux(up[-1], freq_top, up[1:-1]),
-                                       Mux(down[-1], down[:-1], 0))),
+            regs.NCO_FREQ_set.eq(freq_up | press("freq_down")),
+            regs.NCO_FREQ_value.eq(Mux(stepped[-1] == freq_up, Mux(freq_up, freq_top, 0),
+                                       stepped[1:-1])),
             regs.NCO_AMP_set.eq(press("amp_up") | press("amp_down")),
             regs.NCO_AMP_value.eq(Mux(press("amp_up"),
                                       Mux(amp_up[-1], amp_top, amp_up[:-1]),
