@@ -14,7 +14,9 @@ Yosys (``synth_ice40 -dsp`` on UP5K, ``synth_ice40`` on HX8K, which has no DSP b
 ``synth_ecp5``, or a fallback on a design where that stops: see :data:`ECP5_FALLBACKS`)
 synthesises each once; nextpnr places and routes it with the device's clock request
 (``--freq``, the core's target, for every design) over the seeds :data:`SEEDS` on every row
-with a target and the first seed elsewhere, ``--jobs`` tools at a time. Placement alone moves
+with a target and the first seed elsewhere, ``--jobs`` tools at a time (a first route stopped
+for its time is a failed seed, and the second seed is routed first in its place: a congested
+placement is the seed's, not the netlist's). Placement alone moves
 Fmax by several per cent, so a row is judged on its median over the seeds; the table also gives
 the minimum, the cell counts, the loop latency (the minimum update period) and the resulting
 maximum update rate. A design that does not fit its device is reported as such.
@@ -244,8 +246,11 @@ def tool_versions() -> str:
 
 #: seconds one nextpnr run may take before it is stopped and its seed counted as failed
 #: (``--route-timeout``): nextpnr's router has run for more than 25 minutes on a congested
-#: placement, where the others of its row took minutes, and a run of make perf must stay bounded
-route_timeout = 600.0
+#: placement, where the others of its row took minutes, and a run of make perf must stay
+#: bounded. In the run of 2026-12-03 every iCE40 route that ended spent at most 15 s routing
+#: (the slowest row, the core at N = 9 on the ECP5, took 375 s for its synthesis and five seeds
+#: together), and the three that did not were still stuck at the same congestion after 10 min
+route_timeout = 300.0
 
 
 class ToolTimeoutError(RuntimeError):
@@ -374,7 +379,7 @@ class Row:
     synth: str = ""
     counts: dict = field(default_factory=dict)
     routes: dict = field(default_factory=dict)
-    #: the seeds after the first whose route failed: nextpnr's first words, by seed
+    #: the seeds whose route failed: nextpnr's first words (or the timeout's), by seed
     failed: dict = field(default_factory=dict)
     no_fit: str | None = None
     #: the synthesis or the first seed's route failed (the tool's words): the row says so and
@@ -386,6 +391,17 @@ class Row:
     def seeds(self) -> tuple[int, ...]:
         return SEEDS if (self.config.targets.get(self.device.key) is not None
                          or self.config.relative is not None) else SEEDS[:1]
+
+    @property
+    def first_seeds(self) -> tuple[int, ...]:
+        """The seeds tried in turn for the first route while one stops for its time (the
+        placement's fault, not the netlist's): two, so that a row of one seed still gives a
+        figure and a run stays bounded (a row whose two time out is reported as failed)."""
+        return SEEDS[:2]
+
+    def unrouted(self) -> list[int]:
+        """The row's seeds neither routed nor failed yet."""
+        return [s for s in self.seeds if s not in self.routes and s not in self.failed]
 
 
 #: what nextpnr says when a design needs more cells of a kind than the device has
@@ -464,6 +480,20 @@ def synthesise(config: Config, device: Device) -> Row:
     return row
 
 
+def _route_first(row: Row) -> None:
+    """Route ``row`` with its first seed; a route stopped for its time is a failed seed
+    (``row.failed``) and the next of :attr:`Row.first_seeds` is tried, until one routes (the
+    last one's timeout is raised)."""
+    *others, last = row.first_seeds
+    for seed in others:
+        try:
+            row.routes[seed] = route(row, seed)
+            return
+        except ToolTimeoutError as error:
+            row.failed[seed] = " ".join(str(error).split())[:120]
+    row.routes[last] = route(row, last)
+
+
 def _synthesise_and_route_first(row: Row, device: Device, synthesise_with) -> None:
     work, first = row.work, row.seeds[0]
     log = work / f"seed{first}" / "nextpnr.log"
@@ -473,7 +503,7 @@ def _synthesise_and_route_first(row: Row, device: Device, synthesise_with) -> No
         # twice): the next one, for both; a design too big for the device is that on any
         try:
             synthesise_with(synth, _attempt_log("yosys", attempt))
-            row.routes[first] = route(row, first)
+            _route_first(row)
             return
         except ToolTimeoutError:
             raise
@@ -548,14 +578,16 @@ def measure_all(pairs: list[tuple[Config, Device]], jobs: int, progress=print) -
                     if row.broken:
                         progress(f"{row.config.key} {row.device.key}: failed: {row.broken}")
                         continue
+                    routed = min(row.routes, default=None)
                     progress(f"{row.config.key} {row.device.key}: synthesised, "
                              f"{row.counts['luts']} LUT4, {row.counts['ffs']} FF"
+                             + "".join(f"; seed {s} failed: {row.failed[s]}"
+                                       for s in sorted(row.failed))
                              + (f"; does not fit: {row.no_fit}" if row.no_fit else
-                                f"; seed {row.seeds[0]} "
-                                f"{row.routes[row.seeds[0]]['fmax']:.1f} MHz"))
+                                f"; seed {routed} {row.routes[routed]['fmax']:.1f} MHz"))
                     if row.no_fit is None:
                         pending.update({pool.submit(route, row, s): (index, s)
-                                        for s in row.seeds[1:]})
+                                        for s in row.unrouted()})
                 else:
                     row = rows[index]
                     try:
@@ -593,7 +625,8 @@ def table(rows: list[dict], versions: str, date: str) -> str:
         f"{synths}; post-route, `--freq` the core's target on every row, nextpnr seeds "
         f"{SEEDS[0]}-{SEEDS[-1]} on every row with a target (the median and the minimum over "
         f"the seeds; the target is judged on the median) and seed {SEEDS[0]} elsewhere, a "
-        f"route stopped after {route_timeout / 60:g} min (a failed seed); each design wrapped "
+        f"route stopped after {route_timeout / 60:g} min (a failed seed; where it is seed "
+        f"{SEEDS[0]}, seed {SEEDS[1]} is routed first in its place); each design wrapped "
         "in serial I/O (see the module's docstring). LUTs on ECP5 count each CCU2C carry cell "
         "as two LUT4s. DSP: SB_MAC16 / MULT18X18D blocks. The project's "
         "targets: the core's for N = 3, the whole top's (N = 3, width 16), and for the core "

