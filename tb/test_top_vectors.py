@@ -15,10 +15,12 @@ import random
 import pytest
 
 from mdfqm_gateware.top import MdfqmTop
-from mdfqm_spec.contract import MODES
+from mdfqm_model.update import mdfqm_update, remove_common_mode
+from mdfqm_spec.contract import MODES, RULES, ZERO_POLICIES, Contract
 from mdfqm_testkit import spec_trace
 from mdfqm_testkit.coverage import Coverage
-from mdfqm_testkit.top_stimulus import FULL_TOP_RUNS, top_stimulus
+from mdfqm_testkit.top_sequences import LongTimes
+from mdfqm_testkit.top_stimulus import FULL_TOP_RUNS, half_step_codes, top_stimulus
 from mdfqm_testkit.vectors import VectorBench
 
 #: (name, top, runs x clocks): 500 000 + 60 000 + 50 000 + 40 000 + 2 x 40 000 = 730 000
@@ -61,3 +63,33 @@ def test_top_vectors(name, build, runs):
         print(f"top {name} run {k}: {cycles} clocks, 0 mismatches, {len(coverage.hits)} bins "
               "hit, every goal among them", flush=True)
     print(f"top {name}: {total} clocks checked, 0 mismatches")
+
+
+@pytest.mark.parametrize("phases", [3, 5])
+def test_half_step_beats_change_the_state_at_every_update(phases):
+    """The premise of the long dead-time trials (top_sequences.LongTimes): with every beat half
+    of one leg's active vector, the MDFQM update changes the state at every update, from any
+    legal integrators, after fewer updates than the trial waits for, with either rule and zero
+    policy."""
+    seed = int(os.environ.get("SEED", random.randrange(1 << 32)))
+    print(f"half-step beats, {phases} phases: seed {seed} (replay with SEED={seed})")
+    rng = random.Random(seed)
+    contract = Contract(phases, 16)
+    settle = LongTimes.SETTLE_LIMIT - LongTimes.CHANGING_UPDATES
+    for rule in RULES:
+        for zero_policy in ZERO_POLICIES:
+            for _ in range(200):
+                x = [rng.randint(contract.x_min, contract.x_max) for _ in range(phases - 1)]
+                x.append(-sum(x))
+                if not contract.x_min <= x[-1] <= contract.x_max:
+                    continue
+                r = remove_common_mode(half_step_codes(contract, rng.randrange(phases)), phases)
+                start, states = tuple(x), [0]
+                for _ in range(settle + 40):
+                    result = mdfqm_update(x, r, states[-1], contract, rule, zero_policy)
+                    x = result.x_next
+                    states.append(result.h)
+                held = [k for k in range(settle, len(states) - 1)
+                        if states[k] == states[k + 1]]
+                assert not held, (f"{rule}, zero policy {zero_policy}, from {start}: the "
+                                  f"state held at updates {held}: {states}")

@@ -578,11 +578,12 @@ class LongTimes(TopSequence):
     more than 32,768 clocks; in runs long enough for a few such times. Half the dead-time
     trials (each octave at least once) lower DEAD to dead_min while that long dead time runs:
     the turn-on still waits it out (docs/top.md, "Dead time in force"). The gates stay enabled,
-    with no fault or watchdog trip, and the reference reverses every beat inside the linear
-    range, a new beat each update (OSR 1), meanwhile: the state changes at nearly every update,
-    where a reference beyond the linear range could hold an integrator at its limit
-    (docs/robustness.md) and one state through every update of a trial, with no turn-on to
-    see."""
+    with no fault or watchdog trip, and every beat is half of one leg's active vector, a new
+    beat each update (OSR 1), meanwhile: from any integrators the MDFQM update then changes the
+    state at every update after a few (tb/test_top_vectors.py checks it on the model), and a
+    trial begins once it has seen the state change at each of a few short updates. A reference
+    that reverses each beat does not do that: from centred integrators it can leave the zero
+    state in force at every update, and a trial of long updates without a turn-on."""
 
     rules = (rdl("DEAD.DEAD"), rdl("MIN_PULSE.MIN_PULSE"), doc(TOP_MD, "Gate driver (per leg)"))
     claims = frozenset({PERIOD, DEAD, MODULATION, SYNC, STREAM, OSR, CTRL, FAULT, WATCHDOG})
@@ -595,6 +596,9 @@ class LongTimes(TopSequence):
     #: the octaves aimed at: the dead time's compare and count in their high bits
     DEAD_EDGES = (2048, 32768)
     PULSE_EDGES = (32768,)
+    #: short updates in a row that must each change the state before a long trial begins,
+    #: and the short updates waited for them at most
+    CHANGING_UPDATES, SETTLE_LIMIT = 4, 40
 
     @classmethod
     def applies(cls, run):
@@ -608,8 +612,8 @@ class LongTimes(TopSequence):
 
     def body(self):
         run, rng = self.run, self.rng
-        # the state changes at (nearly) every update: a dead time at each boundary
-        run.stream.kind = "reversing"
+        # the state changes at every update: a dead time at each boundary
+        run.stream.kind, run.stream.half_step_leg = "half step", rng.randrange(run.model.phases)
         open_dead = (run.coverage.open_bins(self.DEAD_POINT)
                      or run.coverage.open_bins(self.LOWERED))
         dead_trial = bool(open_dead) or (not run.coverage.open_bins(self.PULSE_POINT)
@@ -635,12 +639,12 @@ class LongTimes(TopSequence):
         run, rng = self.run, self.rng
         low = band_low(octave)
         dead = low + rng.randrange(min(low, 8000))
-        # MDFQM: one state an update, each update longer than the dead time, from integrators
-        # near their centre (short updates bring them there first: from an integrator far
-        # out, the same state would win many long updates)
+        # MDFQM: one state an update, each update longer than the dead time, the state
+        # changing at each (seen in short updates first)
         yield from run.settle(run.write(regs.MODULATION, run.modulation_word(mode=0)),
                               run.write(regs.OSR, 1))
-        yield from run.until(self._integrators_centred, limit=20_000)
+        if not (yield from self._state_changing()):
+            return
         yield from run.settle(run.write(regs.PERIOD, min(0xFFFF, dead + rng.randint(500, 3000))),
                               run.write(regs.DEAD, dead))
         if octave in run.coverage.open_bins(self.LOWERED) or rng.random() < 0.5:
@@ -655,10 +659,19 @@ class LongTimes(TopSequence):
         yield from self._this_trial_hit(self.DEAD_POINT, band(dead, self.DEAD_EDGES),
                                         limit=4 * (dead + 3000) + 1000)
 
-    def _integrators_centred(self) -> bool:
-        """Every integrator within one DC bus (N FULL in the N-scaled domain) of zero."""
-        model = self.run.model
-        return max(abs(x) for x in model.core.x) <= model.contract.unit
+    def _state_changing(self):
+        """Wait until the state has changed at each of :data:`CHANGING_UPDATES` updates in
+        a row (read at each update start), at most :data:`SETTLE_LIMIT` updates; whether it
+        did."""
+        run, in_a_row, last = self.run, 0, None
+        for _ in range(self.SETTLE_LIMIT):
+            yield from run.updates(1)
+            state = run.model.core.h
+            in_a_row = in_a_row + 1 if last is not None and state != last else 0
+            last = state
+            if in_a_row >= self.CHANGING_UPDATES:
+                return True
+        return False
 
     def _this_trial_hit(self, point, bin_, limit):
         """Wait until this trial hits ``bin_`` (a hit of an earlier trial does not count), at

@@ -91,12 +91,20 @@ class Aim:
 ROUNDING_TRIES = 64
 
 
+def half_step_codes(contract, leg: int) -> list[int]:
+    """A beat of half of ``leg``'s active vector: ``FULL / 2`` on that leg, 0 on the others."""
+    return [contract.full // 2 if i == leg else 0 for i in range(contract.phases)]
+
+
 class StreamSource:
     """The FOC loop's reference stream: a beat held with its payload until accepted, idle clocks
     between; balanced sines whose amplitude drifts from near zero into overmodulation, with
     beats of extreme codes and ties mixed in, or the kind a sequence asks for (``kind``: one
-    of them alone; ``linear``, sines inside the linear range only; ``reversing``, a vector
-    inside it that turns by half a turn every beat);
+    of them alone; ``linear``, sines inside the linear range only; ``half step``, every beat
+    half of one leg's active vector, ``FULL / 2`` on leg ``half_step_leg``: the same reference
+    as a duty of one half between that leg's state and a zero state, which a feedback
+    quantiser meets by changing the state at every update, once the integrators have taken a
+    few such beats);
     ``eager`` offers a beat in every clock, ``stalled`` none (a controller that stopped)."""
 
     def __init__(self, run):
@@ -104,6 +112,7 @@ class StreamSource:
         self.contract = run.model.contract
         self.phases = run.model.phases
         self.kind, self.eager, self.stalled = "sine", False, False
+        self.half_step_leg = 0
         self.offered: list | None = None
         self.label = ""
         self.angle = self.rng.uniform(0, 2 * math.pi)
@@ -179,9 +188,8 @@ class StreamSource:
             return self.sine_codes(rng.uniform(1.0, 2.0) * lin, rng.uniform(-0.5, 0.5))
         if kind == "linear":
             return self.sine_codes(rng.uniform(0.2, 0.9) * lin)
-        if kind == "reversing":          # each beat the last one's opposite
-            self.angle += math.pi
-            return self.sine_codes(0.9 * lin)
+        if kind == "half step":
+            return half_step_codes(c, self.half_step_leg)
         if kind == "common mode":
             return self.sine_codes(rng.uniform(0.05, 0.6),
                                    rng.choice([-1, 1]) * rng.uniform(0.25, 0.5))
