@@ -376,17 +376,25 @@ class MdfqmTop(wiring.Component):
         ]
 
         # ---------------------------------------------------------------- switching counters
-        total_next = Signal(self.counter_width + 1)
-        m.d.comb += total_next.eq(total + sum(driver.event[i] for i in range(n)))
+        turn_ons = Signal(range(n + 1))
+        m.d.comb += turn_ons.eq(sum(driver.event[i] for i in range(n)))
         with m.If(count_clear):
             m.d.sync += [events.eq(0), total.eq(0)]
         with m.Else():
             m.d.sync += [events[i].eq(events[i] + driver.event[i]) for i in range(n)]
-            m.d.sync += total.eq(total_next)
+            m.d.sync += total.eq(total + turn_ons)
+        # the total wraps when its sum carries out: at most N legs turn on in a clock, so only
+        # when its high bits are all ones, and then the carry out of its low bits' sum. The
+        # turn-ons pass through that small sum, not through the whole count's carry chain (on
+        # the iCE40s it led from a leg's turn-on to IRQ_STATUS).
+        low_bits = n.bit_length()
+        low_sum = Signal(low_bits + 1)
+        m.d.comb += low_sum.eq(total[:low_bits] + turn_ons)
+        total_wraps = total[low_bits:].all() & low_sum[low_bits]
 
         # ---------------------------------------------------------------- interrupt
         sources = {regmap.IRQ_FAULT: driver.fault_input & ~driver.fault,
-                   regmap.IRQ_COUNTER_WRAP: total_next[-1] & ~count_clear,
+                   regmap.IRQ_COUNTER_WRAP: total_wraps & ~count_clear,
                    regmap.IRQ_SAMPLE: core.sample,
                    regmap.IRQ_SHORT_EDGE: driver.short_edge_now.any(),
                    regmap.IRQ_WATCHDOG: wd_trip}

@@ -183,43 +183,43 @@ SAMPLE: tuple[Sampled, ...] = (
             "pin polarity"),
     # 'upper': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
             "pin polarity"),
-    # request.eq(bus.cyc & bus.stb & ~bus.ack)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
             "bus handshake (cyc or stb alone)"),
-    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[15] inv",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
+            "bus handshake (cyc or stb alone)"),
+    # m.d.comb += turn_ons.eq(sum((driver.event[i] for i in range(n))))
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#2 B[0] const0",
             "two events in one clock"),
-    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    # m.d.comb += turn_ons.eq(sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 A[13] const1",
+            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#0 Y[1] cnot1/0",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
-    # m.d.comb += total_next.eq(total + sum((driver.event[i] for i in range(n))))
+    # m.d.comb += turn_ons.eq(sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@e9569570 top $add#3 Y[1] const0",
+            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#2 Y[1] const0",
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#0 A[1] const0",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[3] inv",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 A[4] cnot1/2",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[3] inv",
             "row: `IRQ_STATUS` written with any value"),
     # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $lt#0 A[15] const0",
+            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[14] inv",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & ~(timeout + quiet_...
     Sampled("top_wb",
@@ -227,23 +227,23 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: the controller stops sending references"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 Y[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 B[0] const1",
             "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[3] const0",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[3] inv",
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 A[4] const0",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[2] const1",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[19] const1",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#0 A[34] const0",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample
@@ -368,7 +368,7 @@ READINGS: tuple[Reading, ...] = (
         "not equivalent, out of any simulation's reach: the interrupt ignores IRQ_STATUS bit 1 "
         "(COUNTER_WRAP), which only EVENTS_TOTAL passing 2**32 sets."),
     Reading(
-        "rtl/mdfqm_gateware/top.py@4ded023c top $not#0 A[0] const0",
+        "rtl/mdfqm_gateware/top.py@199ced1f top $not#0 A[0] const0",
         "not equivalent, out of any simulation's reach: the COUNTER_WRAP event ignores a "
         "COUNT_CLEAR in its clock, which matters only when EVENTS_TOTAL passes 2**32."),
     Reading(

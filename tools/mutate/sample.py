@@ -66,7 +66,7 @@ CLASSES = {
         "driver": ("rtl/mdfqm_gateware/driver.py", r'"fault": Out\(1\)',
                    ("const0", "const1"), ("S",)),
         # two legs turning on in one clock count two
-        "top_wb": ("rtl/mdfqm_gateware/top.py", r"total_next\.eq\(total \+ sum",
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r"turn_ons\.eq\(sum",
                    ("const0", "const1", "inv", "cnot0", "cnot1"), None),
         # an interrupt event and its write-1-to-clear in one clock: the event stays
         "top_axi": ("rtl/mdfqm_gateware/top.py", r"status_next = \(irq_status & ~cleared\)",
@@ -93,7 +93,7 @@ ROWS = {
     "two events in one clock: a register write": {
         # bit 1 of the sum of the legs' turn-on strobes: lost only when two legs turn on in
         # the same clock
-        "top_wb": ("rtl/mdfqm_gateware/top.py", r"total_next\.eq\(total \+ sum", ("const0",),
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r"turn_ons\.eq\(sum", ("const0",),
                    ("Y[1]",))},
     "reference beyond the linear range": {
         "core": ("rtl/mdfqm_gateware/integrator.py", r"fits\.eq\(Cat\(\*fits_each\)\.all\(\)\)",
