@@ -12,7 +12,7 @@ import pytest
 
 from mdfqm_gateware.sequencer import UpdateSequencer
 from mdfqm_model.clock import CoreModel, GeneratorModel
-from mdfqm_spec.contract import loop_latency, min_period, resolution_latency
+from mdfqm_spec.contract import MODES, loop_latency, min_period, resolution_latency
 from mdfqm_testkit.harness import check_cycles, params, run_block, seeded_rng, start
 
 # (phases, max_bits or None for the core's sequencer)
@@ -47,6 +47,9 @@ async def sequencer_against_the_clock_model(dut):
                                  0xFFFF if rng.random() < 0.05 else 20])
             osr = rng.choice([0, 1, 2, 3, 255 if rng.random() < 0.05 else 4])
             mode, bits = rng.randrange(8), rng.randrange(16)
+            if generator and rng.random() < 0.25:   # a slot mode at its b's minimum, aimed
+                mode, bits = rng.randint(1, len(MODES) - 1), rng.randint(1, p["max_bits"])
+                period = min_period(True, bits, latency, model.long_latency)
         stim = {"rst": int(rng.random() < 0.002), "period": period, "osr": osr,
                 "zero_policy": rng.randint(0, 1), "sync_in": int(rng.random() < 0.08)}
         if generator:
