@@ -123,7 +123,10 @@ def test_sby_proves_the_generator_at_the_drop_in_size(phases):
 
 
 @pytest.mark.parametrize(("phases", "width", "depth"), [
-    (3, 8, 24),
+    # 28: the saturated commit takes more than 24 steps (28 reach it) since a long update's
+    # minimum period is decoded without a table lookup (in the solver's model that lookup could
+    # return a minimum below the contract's, which simulation never shows: a shorter witness)
+    (3, 8, 28),
     pytest.param(5, 9, 26, marks=pytest.mark.long_proof),    # 389 s: `make prove-long`
 ])
 def test_sby_covers_every_mode_of_the_generator(phases, width, depth):

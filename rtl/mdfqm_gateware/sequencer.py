@@ -1,6 +1,9 @@
 """Update sequencer: an update every P clocks, a sampling tick every OSR updates."""
 
-from amaranth import Array, Cat, Const, Module, Mux, Signal, signed
+import functools
+import operator
+
+from amaranth import Cat, Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -66,8 +69,8 @@ class UpdateSequencer(wiring.Component):
     long : Out(1)
         The current update is long (registered).
     p_lat : Out(period_width)
-        Period P of the current update, after the clamp (registered at the start: valid from
-        the second clock of the update on, ``phase >= 1``).
+        Period P of the current update, after the clamp (from registers latched at the start:
+        valid from the second clock of the update on, ``phase >= 1``).
     mode_clamped : Out(1)
         The last start's ``mode`` was illegal or its ``bits`` was clamped (registered).
 
@@ -140,7 +143,7 @@ class UpdateSequencer(wiring.Component):
                      self.elapsed.eq(phase)]
 
         if self.long_latency is None:
-            clamped = self.period < self.latency
+            clamped = ~at_least(self.period, self.latency)
             # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update. The
             # update ends at phase + 1 >= max(period, latency), or at sync_in once late.
             ends = ~self.start & late & (self.sync_in | reached)
@@ -195,7 +198,12 @@ class UpdateSequencer(wiring.Component):
         when both the requested period and the minimum have run, each a signed count-down loaded
         at the start (``period - 3``, and ``minimum - 3`` from a table of constants) whose sign
         bit says so: no lookup of the runtime mode and no comparator sits in front of the end.
-        The flag compares ``period`` with every possible minimum in parallel and selects.
+
+        The start clock holds no carry chain and no lookup by the clamped b: a long update's
+        minimum takes one of a few values (``max(L_b, 2**b)``), so ``period`` is compared with
+        each of them as logic on its bits, and the request picks one through a decode of its
+        own bits (the clamps folded into the decode's constants). ``p_lat`` is selected a
+        clock later, from the period and the minimum latched at the start and the clamp flag.
         """
         long_lat, short, width = self.long_latency, self.latency, self.period_width
         legal = self.mode < len(MODES)
@@ -205,34 +213,52 @@ class UpdateSequencer(wiring.Component):
         b_now = Mux(bbit_now, bits_now, 0)
         prev_bbit = Signal()
         long_now = bbit_now | prev_bbit
-        # minimum period of a long update for each code of b_now (padded: a complete case)
-        table = [min_period(True, min(b, self.max_bits), short, long_lat)
-                 for b in range(1 << BITS_WIDTH)]
-        below = Array(self.period < v for v in table)[b_now]
-        clamped = Mux(long_now, below, self.period < short)
-        minimum = Mux(long_now, Array(Const(v, width) for v in table)[b_now], short)
+        # minimum period of a long update by its requested b code, after the clamp; a long
+        # update in mdfqm (the first after a slot mode) has b = 0
+        by_code = [min_period(True, min(max(code, 1), self.max_bits), short, long_lat)
+                   for code in range(1 << BITS_WIDTH)]
+        mdfqm_long = min_period(True, 0, short, long_lat)
+        # picks[v]: the update's minimum is v (for a long update)
+        picks = {}
+        for v in sorted(set(by_code) | {mdfqm_long}):
+            codes = Const(sum(1 << code for code, w in enumerate(by_code) if w == v),
+                          1 << BITS_WIDTH)
+            picks[v] = Mux(bbit_now, codes.bit_select(self.bits, 1), int(v == mdfqm_long))
+
+        def chosen(value_of, shape):
+            """``value_of(v)`` of the picked minimum v of a long update, else of ``short``."""
+            return Mux(long_now, functools.reduce(operator.or_, (
+                Mux(pick, Const(value_of(v), shape), 0) for v, pick in picks.items())),
+                Const(value_of(short), shape))
+
+        # period < minimum, each compare as logic on the bits of period
+        clamped = Mux(long_now, functools.reduce(operator.or_, (
+            pick & ~at_least(self.period, v) for v, pick in picks.items())),
+            ~at_least(self.period, short))
         # from phase 1 on: phase + 1 >= period <=> reached, phase + 1 >= minimum <=> floor < 0;
         # floor, as wide as the largest minimum, holds once negative
-        floor = Signal(signed(signed_bits(-1, max(table) - 3)))
+        floor = Signal(signed(signed_bits(-1, max(picks) - 3)))
+        period_lat = Signal(width)
+        minimum_lat = Signal(width)
         # In a start cycle phase + 1 = 1 < latency <= P: never the end of the update.
         ends = ~self.start & ((self.sync_in & late) | (reached & floor[-1]))
         m.d.sync += [
             late.eq(Mux(self.start, Mux(long_now, int(long_lat <= 2), int(short <= 2)),
                         Mux(self.long, at_least(phase, long_lat - 2),
                             at_least(phase, short - 2)))),
-            floor.eq(Mux(self.start,
-                         Mux(long_now, Array(Const(v - 3, floor.shape()) for v in table)[b_now],
-                             short - 3),
+            floor.eq(Mux(self.start, chosen(lambda v: v - 3, floor.shape()),
                          Mux(floor[-1], floor, floor - 1))),
         ]
         with m.If(self.start):
             m.d.sync += [
-                # P = max(period, minimum) of the update: the flag's compare selects
-                self.p_lat.eq(Mux(clamped, minimum, self.period)),
+                period_lat.eq(self.period),
+                minimum_lat.eq(chosen(lambda v: v, width)),
                 prev_bbit.eq(bbit_now),
                 self.long.eq(long_now),
                 self.mode_lat.eq(mode_now),
                 self.bits_lat.eq(b_now),
                 self.mode_clamped.eq(~legal | (bbit_now & (bits_now != self.bits))),
             ]
+        # P = max(period, minimum) of the update: the flag's compare selects
+        m.d.comb += self.p_lat.eq(Mux(self.period_clamped, minimum_lat, period_lat))
         return clamped, ends

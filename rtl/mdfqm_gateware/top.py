@@ -30,6 +30,7 @@ from mdfqm_spec.contract import (
 from mdfqm_spec.regmap import info_word, validate_top_phases
 from mdfqm_spec.validate import validate_bool, validate_int
 
+from .arith import at_least
 from .bus import AxiLiteSignature, WishboneSignature
 from .core import MdfqmCore
 from .driver import GateDriver
@@ -39,12 +40,12 @@ from .generator import GatingSignalGenerator
 __all__ = ["MdfqmTop"]
 
 
-def _saturate(value, top: int):
-    """``min(value, top)`` for an unsigned ``value`` and ``top = 2**k - 1``: a test of the
-    bits above ``k`` (a bus word's clamp; an OR tree, not a 32-bit compare's carry chain)."""
+def _saturate(value, top: int, over):
+    """``min(value, top)`` for an unsigned ``value`` and ``top = 2**k - 1``, given ``over``:
+    the bits of ``value`` above ``k`` not all 0 (see :func:`_clamp_tests`)."""
     k = top.bit_length()
     assert top == (1 << k) - 1
-    return Mux(value[k:].any(), top, value[:k])
+    return Mux(over, top, value[:k])
 
 
 def _delayed(m, value, clocks: int, name: str, reset_less: bool = False):
@@ -64,15 +65,22 @@ def _only_asc(driver):
     return ((driver.up & Mux(r == 2, 0, ones)) == 0) & ((driver.lo & Mux(r == 1, 0, ones)) == 0)
 
 
-def _saturate_code(value, contract):
+def _saturate_code(value, contract, fits):
     """A bus word (two's complement) clamped to the contract's reference codes, the full
-    ``width``-bit signed range: in range exactly when the bits from ``width - 1`` up are all
-    equal (no compare's carry chain on the bus path)."""
+    ``width``-bit signed range, given ``fits``: the word is in that range (see
+    :func:`_clamp_tests`)."""
     width = contract.width
     assert (contract.code_min, contract.code_max) == (-(1 << (width - 1)), (1 << (width - 1)) - 1)
-    high = value[width - 1:]
-    fits = (high == 0) | high.all()
     return Mux(fits, value[:width], Mux(value[-1], contract.code_min, contract.code_max))
+
+
+def _clamp_tests(word, contract, dead_min: int) -> dict:
+    """The tests of a bus word that the registers' clamps select by: above 16 bits, above 8
+    bits, below the dead-time floor, and in the reference codes' range (the bits from
+    ``width - 1`` up all equal). Each is logic on the bits, no compare's carry chain."""
+    high = word[contract.width - 1:]
+    return {"over16": word[16:].any(), "over8": word[8:].any(),
+            "below_floor": ~at_least(word, dead_min), "code_fits": (high == 0) | high.all()}
 
 
 class MdfqmTop(wiring.Component):
@@ -230,6 +238,11 @@ class MdfqmTop(wiring.Component):
         w_en = _delayed(m, port.w_en, WRITE_LATENCY, "w_en")
         w_adr = _delayed(m, port.w_adr, WRITE_LATENCY, "w_adr", reset_less=True)
         w_data = _delayed(m, port.w_data, WRITE_LATENCY, "w_data", reset_less=True)
+        # the clamps' tests of the word, made from the write as the front issues it and
+        # delayed with it: a register's write then only selects (the clamps, from the
+        # registered word, were the Fmax path of the tops on the UP5K)
+        clamp = {name: _delayed(m, test, WRITE_LATENCY, f"w_{name}", reset_less=True)
+                 for name, test in _clamp_tests(port.w_data, c, self.dead_min).items()}
 
         # ---------------------------------------------------------------- registers
         ctrl = Signal(2)
@@ -274,20 +287,21 @@ class MdfqmTop(wiring.Component):
         with m.If(written(regmap.CTRL)):
             m.d.sync += ctrl.eq(word[:2])
         with m.If(written(regmap.PERIOD)):
-            m.d.sync += period.eq(_saturate(word, 0xFFFF))
+            m.d.sync += period.eq(_saturate(word, 0xFFFF, clamp["over16"]))
         with m.If(written(regmap.OSR)):
-            m.d.sync += osr.eq(_saturate(word, 0xFF))
+            m.d.sync += osr.eq(_saturate(word, 0xFF, clamp["over8"]))
         with m.If(written(regmap.DEAD)):
-            m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 0xFFFF)))
+            m.d.sync += dead.eq(Mux(clamp["below_floor"], self.dead_min,
+                                 _saturate(word, 0xFFFF, clamp["over16"])))
         with m.If(written(regmap.MIN_PULSE)):
-            m.d.sync += min_pulse.eq(_saturate(word, 0xFFFF))
+            m.d.sync += min_pulse.eq(_saturate(word, 0xFFFF, clamp["over16"]))
         with m.If(written(regmap.ADC_OFFSET)):
-            m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF))
+            m.d.sync += adc_offset.eq(_saturate(word, 0xFFFF, clamp["over16"]))
         with m.If(written(regmap.IRQ_ENABLE)):
             m.d.sync += irq_enable.eq(word[:irq_bits])
         if self.watchdog:   # else WATCHDOG and WATCHDOG_TRIPS read 0: it never trips
             with m.If(written(regmap.WATCHDOG)):
-                m.d.sync += wd_timeout.eq(_saturate(word, 0xFFFF))
+                m.d.sync += wd_timeout.eq(_saturate(word, 0xFFFF, clamp["over16"]))
         with m.If(written(regmap.MODULATION)):
             m.d.sync += [mode_request.eq(word[regmap.MODULATION_MODE_SHIFT:][:MODE_WIDTH]),
                          bits_request.eq(word[regmap.MODULATION_BITS_SHIFT:][:BITS_WIDTH])]
@@ -298,7 +312,7 @@ class MdfqmTop(wiring.Component):
                     m.d.sync += reaction_watchdog.eq(word[2:4])
         for i in range(n):
             with m.If(written(regmap.REF_BASE + i)):
-                m.d.sync += ref_regs[i].eq(_saturate_code(word, c))
+                m.d.sync += ref_regs[i].eq(_saturate_code(word, c, clamp["code_fits"]))
 
         mode_clamped, mode_in_force, bits_in_force = self._modulation(
             m, core, mode_request, bits_request)

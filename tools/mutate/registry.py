@@ -87,27 +87,27 @@ SAMPLE: tuple[Sampled, ...] = (
             "row: reference beyond the linear range"),
     # m.d.sync += total.eq(total + phase_code)
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 A[11] const1",
+            "rtl/mdfqm_gateware/reference.py@2fac9afb reference $add#0 A[11] const0",
             "row: common-mode offset"),
     # m.d.sync += pending[n - 1].eq(~(scaled_n + total))
     Sampled("core",
-            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $add#0 A[7] const0",
+            "rtl/mdfqm_gateware/reference.py@69b7b9e4 reference $add#0 A[7] cnot0/1",
             "row: extreme codes"),
     # next_values[a].eq(Mux(a_first, *[as_held(values[i], inverted[i], next_inverted[a]) fo...
     Sampled("core",
-            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 Y[18] inv",
+            "rtl/mdfqm_gateware/sort.py@6efaf944 sort1 $mux#1 Y[3] const1",
             "row: equal references (ties)"),
-    # clamped = self.period < self.latency
+    # clamped = ~at_least(self.period, self.latency)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@251bf518 sequencer $lt#0 A[8] cnot0/0",
+            "rtl/mdfqm_gateware/sequencer.py@5e47f921 sequencer $not#0 Y[0] const0",
             "row: update period below the loop latency"),
     # osr_now = Mux(self.osr == 0, 1, self.osr)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 Y[5] inv",
+            "rtl/mdfqm_gateware/sequencer.py@bb6e191d sequencer $mux#0 B[4] const1",
             "row: OSR 0"),
     # 'policy': Out(1)
     Sampled("core",
-            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 S[0] const0",
+            "rtl/mdfqm_gateware/sequencer.py@46508772 sequencer $mux#0 B[0] const1",
             "row: runtime changes of period / OSR / zero policy / mode"),
     # ends = ~self.start & late & (self.sync_in | reached)
     Sampled("core",
@@ -131,7 +131,7 @@ SAMPLE: tuple[Sampled, ...] = (
             "datapath"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("generator",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $mux#0 Y[2] cnot1/1",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 sequencer $lt#0 A[3] const1",
             "row: illegal generator `mode`"),
     # 'upper': Out(phases)
     Sampled("driver",
@@ -183,67 +183,67 @@ SAMPLE: tuple[Sampled, ...] = (
             "pin polarity"),
     # 'upper': Out(1)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg2 $dff#0 Q[0] inv",
+            "rtl/mdfqm_gateware/driver.py@a6cd42bb driver.leg1 $dff#0 Q[0] inv",
             "pin polarity"),
+    # request.eq(bus.cyc & bus.stb & ~bus.ack)
+    Sampled("top_wb",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
             "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 B[0] const1",
             "bus handshake (cyc or stb alone)"),
-    # request.eq(bus.cyc & bus.stb & ~bus.ack)
-    Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 A[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # m.d.comb += turn_ons.eq(sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#2 B[0] const0",
+            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#0 Y[1] const1",
             "two events in one clock"),
     # m.d.comb += turn_ons.eq(sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#0 Y[1] cnot1/0",
+            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#2 Y[0] cnot1/1",
             "two events in one clock"),
     # request.eq(bus.cyc & bus.stb & ~bus.ack)
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#0 A[0] const1",
+            "rtl/mdfqm_gateware/fronts.py@dfe5fe16 front $and#1 Y[0] const1",
             "row: Wishbone: `stb` without `cyc`"),
     # m.d.comb += turn_ons.eq(sum((driver.event[i] for i in range(n))))
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#2 Y[1] const0",
+            "rtl/mdfqm_gateware/top.py@99c051d0 top $add#1 Y[1] const0",
             "row: two events in one clock: a register write"),
     # bits_now = Mux(self.bits < 1, 1, Mux(self.bits > self.max_bits, self.max_bits, self.b...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 Y[3] inv",
+            "rtl/mdfqm_gateware/sequencer.py@f8511c61 core.sequencer $mux#1 S[0] inv",
             "row: `MODULATION` written with a mode not built in"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[3] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 A[0] const1",
             "row: `IRQ_STATUS` written with any value"),
-    # m.d.sync += dead.eq(Mux(word < self.dead_min, self.dead_min, _saturate(word, 65535)))
+    # m.d.sync += dead.eq(Mux(clamp['below_floor'], self.dead_min, _saturate(word, 65535, c...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@eda8db67 top $mux#0 Y[14] inv",
+            "rtl/mdfqm_gateware/top.py@3f01def9 top $mux#0 B[13] inv",
             "row: any value to any register"),
     # m.d.comb += trip.eq((timeout != 0) & ~tripped & start & ~arrival & ~(timeout + quiet_...
     Sampled("top_wb",
-            "rtl/mdfqm_gateware/top.py@bec9afda top $and#2 Y[0] const0",
+            "rtl/mdfqm_gateware/top.py@bec9afda top $and#3 Y[0] const0",
             "row: the controller stops sending references"),
+    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
+    Sampled("top_axi",
+            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 Y[0] const1",
+            "bus handshake (cyc or stb alone)"),
     # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
     Sampled("top_axi",
             "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $and#1 A[0] const1",
             "bus handshake (cyc or stb alone)"),
-    # do_write.eq(aw_full & w_full & (~bus.bvalid | bus.bready))
-    Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@5c6f86d5 front $or#0 B[0] const1",
-            "bus handshake (cyc or stb alone)"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $and#0 Y[3] inv",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 Y[3] const0",
             "two events in one clock"),
     # status_next = irq_status & ~cleared | irq_events
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/top.py@657c67c9 top $or#0 B[2] const1",
+            "rtl/mdfqm_gateware/top.py@657c67c9 top $not#0 A[4] const0",
             "two events in one clock"),
     # return Mux(mask.bit_select(address, 1), AXI_RESP_OKAY, AXI_RESP_SLVERR)
     Sampled("top_axi",
-            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#0 A[34] const0",
+            "rtl/mdfqm_gateware/fronts.py@dae2c362 front $shift#1 A[1] inv",
             "row: AXI4-Lite: an access to a word that holds no register"),
 )
 # -- end of the sample
@@ -319,7 +319,7 @@ READINGS: tuple[Reading, ...] = (
         "by a simulation of the count-down alone, not a proof; from an even load it would "
         "differ)."),
     Reading(
-        "rtl/mdfqm_gateware/sequencer.py@792ca3ac sequencer $dff#0 Q[6] inv",
+        "rtl/mdfqm_gateware/sequencer.py@e592cfaa sequencer $dff#0 Q[6] inv",
         "bit 6 of the minimum-period count-down `floor` is inverted as read (by its decrement "
         "and its sign test alike): the count runs `r -> (r - 1) xor 64`, whose sign bit turns "
         "on after as many clocks as the plain count's from every load of the table "

@@ -108,8 +108,8 @@ ROWS = {
         "core": ("rtl/mdfqm_gateware/sort.py", r"next_(values|index)\[a\]\.eq\(Mux\(a_first",
                  ANY, None)},
     "update period below the loop latency": {
-        "core": ("rtl/mdfqm_gateware/sequencer.py", r"clamped = self\.period < self\.latency",
-                 ANY, None)},
+        "core": ("rtl/mdfqm_gateware/sequencer.py",
+                 r"clamped = ~at_least\(self\.period, self\.latency\)", ANY, None)},
     "OSR 0": {
         "core": ("rtl/mdfqm_gateware/sequencer.py", r"osr_now = Mux\(self\.osr == 0", ANY,
                  None)},
@@ -137,7 +137,7 @@ ROWS = {
         "top_wb": ("rtl/mdfqm_gateware/top.py", r"status_next = \(irq_status & ~cleared\)", ANY,
                    None)},
     "any value to any register": {
-        "top_wb": ("rtl/mdfqm_gateware/top.py", r"dead\.eq\(Mux\(word < self\.dead_min", ANY,
+        "top_wb": ("rtl/mdfqm_gateware/top.py", r'dead\.eq\(Mux\(clamp\["below_floor"\]', ANY,
                    None)},
     "dead time below the elaboration floor": {
         "driver": ("rtl/mdfqm_gateware/driver.py", r"dt_expr = Mux\(dead_seen < self\.dead_min",
