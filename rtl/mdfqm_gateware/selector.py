@@ -271,12 +271,12 @@ class StateDecoder(wiring.Component):
         prev_on = sum(self.i_h_prev[i] for i in range(n))
         all_on = self.i_policy & (prev_on * 2 > n)
         h = Signal(n)
-        count = Signal(range(n + 1))
-        with m.If(self.i_j == 0):
-            m.d.comb += [h.eq(Mux(all_on, (1 << n) - 1, 0)), count.eq(Mux(all_on, n, 0))]
-        with m.Else():
-            m.d.comb += [h.eq(Cat(*legs)), count.eq(self.i_j)]
-        m.d.sync += [self.o_units_n[i].eq(~(Mux(h[i], n, 0) - count)) for i in range(n)]
+        m.d.comb += h.eq(Mux(self.i_j == 0, Mux(all_on, (1 << n) - 1, 0), Cat(*legs)))
+        # the feedback N h_i - k of the zero class is 0 whichever state the policy picks (all
+        # on: N - N; all off: 0 - 0), so it does not wait for the policy: the previous state's
+        # count and its compare were the Fmax path into the feedback at N = 9
+        m.d.sync += [self.o_units_n[i].eq(~Mux(self.i_j == 0, 0, Mux(legs[i], n, 0) - self.i_j))
+                     for i in range(n)]
         m.d.sync += [self.o_h.eq(h), self.o_valid.eq(self.i_valid)]
         if self.formal:
             self._properties(m)
