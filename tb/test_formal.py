@@ -3,16 +3,18 @@
 each block alone (leg and gate driver, integrators, decoder, sort1, sort2, the b-bit generator) and
 of the whole drop-in top (real and free core), and the tests of the tests: each safety proof must
 fail on a design broken on purpose (a leg without dead time; the fault path and the integrator bound
-cut in the netlist with Yosys ``connect -set`` on the named wire).
+cut in the netlist with Yosys ``connect -set`` on the named wire), and the check of the quantiser's
+tables on a model that leaves them free ROMs.
 
 The simulations of the same blocks, the properties included, are in their own files
 (tb/test_driver.py, tb/test_top.py, ...).
 """
 
 import pytest
-from amaranth import Module, Value
+from amaranth import C, Module, Mux, Signal, Value
+from amaranth.hdl import Assert, Assume
 from amaranth.lib import wiring
-from amaranth.lib.wiring import Out
+from amaranth.lib.wiring import In, Out
 
 import mdfqm_gateware.top as top_module
 from mdfqm_gateware import driver, fronts, integrator
@@ -21,11 +23,12 @@ from mdfqm_gateware.driver import GateDriver, LegDriver
 from mdfqm_gateware.fronts import AxiLiteFront, WishboneFront
 from mdfqm_gateware.generator import GatingSignalGenerator
 from mdfqm_gateware.integrator import Integrator
+from mdfqm_gateware.resolution import Quantiser
 from mdfqm_gateware.selector import ArgMax, StateDecoder
 from mdfqm_gateware.sort import SortNetwork
 from mdfqm_gateware.top import MdfqmTop
 from mdfqm_spec.bus import mapped_words
-from mdfqm_spec.contract import Contract, sorting_network
+from mdfqm_spec.contract import BITS_WIDTH, Contract, sorting_network
 from mdfqm_spec.regmap import ADDR_WIDTH, IRQ_MASK
 from mdfqm_testkit.formal import AscWithoutDeadTimeLeg, NoDeadTimeLeg, assertion_site, run_sby
 
@@ -124,17 +127,61 @@ def test_sby_proves_the_generator_at_the_drop_in_size(phases):
 
 @pytest.mark.parametrize(("phases", "width", "depth"), [
     # 28: the saturated commit takes more than 24 steps (28 reach it) since a long update's
-    # minimum period is decoded without a table lookup (in the solver's model that lookup could
-    # return a minimum below the contract's, which simulation never shows: a shorter witness)
+    # minimum period is decoded, not looked up in a table: prep made the table a ROM whose
+    # contents the solver chose freely (minima below the contract's, which the design never
+    # has: shorter witnesses); run_sby now maps every such table to logic.
+    # At N = 5 (the narrowest width, 9) it is reached in step 34 (depth 35: steps 0-34), in
+    # about 10 min beside another proof, so `make prove-long` gives the run 30 min
     (3, 8, 28),
-    pytest.param(5, 9, 26, marks=pytest.mark.long_proof),    # 389 s: `make prove-long`
+    pytest.param(5, 9, 35, marks=pytest.mark.long_proof),
 ])
 def test_sby_covers_every_mode_of_the_generator(phases, width, depth):
     """With max_bits 2 (a long update fits the bounded run): an update in every mode (mdfqm,
     svpwm, dpwm0, dpwm1, sector dpwm), the slot layout switching the gates inside an update in
     each gamma mode, both clamps, a saturated commit, every gate state as an update's result."""
     run_sby(GatingSignalGenerator(phases, width, max_bits=2, formal=True),
-            f"generator_modes_n{phases}", depth, ("cover",))
+            f"generator_modes_n{phases}", depth, ("cover",), timeout=1800)
+
+
+class QuantiserTables(wiring.Component):
+    """The quantiser, its tables of b checked a clock after any b in ``[0, max_bits]`` arrives:
+    ``o_slots = 2**b - 1`` and ``o_delta = 2**(max_bits - b)`` (its docstring)."""
+
+    def __init__(self, max_bits: int):
+        self.max_bits = max_bits
+        super().__init__({"bits": In(BITS_WIDTH)})
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.quantiser = quantiser = Quantiser(3, 8, self.max_bits)
+        m.d.comb += quantiser.i_bits.eq(self.bits)
+        bits_prev = Signal(BITS_WIDTH, reset_less=True)
+        seen = Signal()     # a b arrived a clock ago (not the reset's)
+        m.d.sync += [bits_prev.eq(self.bits), seen.eq(1)]
+        slots, delta = C(0, self.max_bits), C(0, self.max_bits + 1)
+        for b in range(self.max_bits + 1):
+            slots = Mux(bits_prev == b, (1 << b) - 1, slots)
+            delta = Mux(bits_prev == b, 1 << (self.max_bits - b), delta)
+        m.d.comb += [
+            Assume(self.bits <= self.max_bits),
+            Assert(~seen | (quantiser.o_slots == slots), "o_slots is not 2**b - 1"),
+            Assert(~seen | (quantiser.o_delta == delta), "o_delta is not 2**(max_bits - b)"),
+        ]
+        return m
+
+
+@pytest.mark.parametrize("exact_tables", [True, False])
+def test_sby_models_the_quantisers_tables_exactly(exact_tables):
+    """The proofs see the design's tables of constants as they are: prep makes each table (a
+    lookup by b) a ROM, whose contents the solver would choose freely, so run_sby maps it to
+    logic. Without that step this proof fails: the tables are what the solver likes."""
+    tables = QuantiserTables(4)
+    if exact_tables:
+        run_sby(tables, "quantiser_tables", 3, ("prove",))
+    else:
+        with pytest.raises(AssertionError, match="failed assertion"):
+            run_sby(tables, "quantiser_tables_free", 3, ("prove",), keep_failed=False,
+                    exact_tables=False)
 
 
 # ---------------------------------------------------------------------- bus fronts
@@ -225,14 +272,15 @@ def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_b
     reaches gates switching after an enable through the bus, a fault cleared through the bus,
     both switches of every leg turning on, a turn-on in every mode and one after an edge inside
     a slot-mode update; the real core's every gate state as an update's result (both zero
-    states through the zero policy; at N = 5 all-on needs a second update, 34 clocks), the real
-    generator's a turn-on in every mode written through the bus and after a slot edge (48
-    clocks): those run in `make prove-long`, the proofs with the generator at the drop-in's b
-    (and at N = 5) in `make prove-top` (CI) and `make prove-long`."""
+    states through the zero policy; at N = 5 all-on needs a second update: reached in step
+    43, depth 44), the real generator's a turn-on in every mode written through the bus and
+    after a slot edge (48 clocks): those run in `make prove-long`, the proofs with the
+    generator at the drop-in's b (and at N = 5) in `make prove-top` (CI) and `make
+    prove-long`."""
     if core == "free":
         monkeypatch.setattr(top_module, "MdfqmCore", FreeCore)
         monkeypatch.setattr(top_module, "GatingSignalGenerator", FreeGenerator)
-    cover_depth = {"free": 14, "real": 24 if phases == 3 else 34}[core]
+    cover_depth = {"free": 14, "real": 24 if phases == 3 else 44}[core]
     if core == "real" and max_bits:
         cover_depth = 48
     depth = {"prove": len(sorting_network(phases)) + 2, "cover": cover_depth}
@@ -240,7 +288,10 @@ def test_sby_proves_the_top_properties(core, phases, dead_min, tasks, bus, max_b
                      watchdog=watchdog, formal=True),
             f"top_{core}_n{phases}_dmin{dead_min}_{bus}_b{max_bits}{'' if watchdog else '_nowd'}",
             depth, tasks,
-            mutation=SATURATION_COVER_OUT_OF_DEPTH if core == "real" else ())
+            mutation=SATURATION_COVER_OUT_OF_DEPTH if core == "real" else (),
+            # the deep covers of `make prove-long` (the N = 5 one: about 7 min beside another
+            # proof) get 30 min; make test's runs keep run_sby's 10
+            timeout=1800 if "cover" in tasks and cover_depth > 24 else 600)
 
 
 # ---------------------------------------------------------------------- tests of the tests

